@@ -1,0 +1,52 @@
+// The two aligned grids of the two-grid method (seed chapter 5).
+//
+// The fine fluid grid and the coarse particle grid are cell-centred DMDAs with the same process grid; each coarse
+// cell holds a whole block of r_x x r_y x r_z fine cells, owned by the same rank (ownership ranges of the fine
+// grid are r times those of the coarse grid). The DMSwarm needs a vertex DMDA as its cell DM (n + 1 nodes make n
+// cells, and each rank owns the cell to the left of its first node), so a third DMDA with matching vertex
+// ownership is kept for the swarm. Ratio 1 is the conventional single grid.
+#pragma once
+
+#include <petscdmda.h>
+
+#include <vector>
+
+#include "fluidbed/domain.hpp"
+
+namespace fluidbed {
+
+struct FluidGrid {
+  DM                    da = nullptr; // cell-centred, dof 1, star stencil of width 1: the layout of every fluid field
+  PetscInt              n[3]{1, 1, 1};
+  PetscReal             h[3]{1, 1, 1};
+  std::vector<PetscInt> own[3]; // cells owned by each process along each direction
+};
+
+struct ParticleGrid {
+  DM                    da_cell   = nullptr; // cell-centred coarse DMDA for per-particle-cell fields
+  DM                    da_vertex = nullptr; // vertex DMDA used as the swarm's cell DM
+  PetscInt              n[3]{1, 1, 1};
+  PetscReal             h[3]{1, 1, 1};
+  PetscInt              ratio[3]{1, 1, 1};
+  PetscInt              procs[3]{1, 1, 1}; // process grid
+  PetscInt              proc[3]{0, 0, 0};  // this rank's place in it
+  std::vector<PetscInt> start[3];          // first cell of each process along each direction; start[a][procs[a]] = n[a]
+  PetscInt              cell_lo[3]{0, 0, 0}, cell_hi[3]{1, 1, 1}; // cells owned by this rank, [lo, hi)
+  PetscReal             sub_lo[3]{0, 0, 0}, sub_hi[3]{0, 0, 0};   // the rank's subdomain in space
+
+  // MPI rank of the process at process-grid coordinates p (DMDA ordering: x fastest).
+  PetscMPIInt RankAt(const PetscInt p[3]) const { return (PetscMPIInt)(p[0] + procs[0] * (p[1] + procs[1] * p[2])); }
+};
+
+struct Grids {
+  FluidGrid    fluid;
+  ParticleGrid particle;
+};
+
+// Reads -grid_nx/ny/nz, -pgrid_ratio, -pgrid_cell_diameters, -pgrid_processors and creates the DMDAs.
+// d_max is the largest particle diameter (m).
+PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max, Grids *grids);
+PetscErrorCode GridsDestroy(Grids *grids);
+PetscErrorCode GridsView(const Grids &grids, const Domain &domain, PetscViewer viewer);
+
+} // namespace fluidbed

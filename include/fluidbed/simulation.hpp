@@ -1,0 +1,45 @@
+// A run: the scene read from PETSc options, the time loop, and its outputs.
+#pragma once
+
+#include <petscsys.h>
+
+#include "fluidbed/dem.hpp"
+#include "fluidbed/domain.hpp"
+#include "fluidbed/grids.hpp"
+#include "fluidbed/io.hpp"
+#include "fluidbed/particles.hpp"
+#include "fluidbed/phases.hpp"
+
+namespace fluidbed {
+
+struct RunControl {
+  PetscReal t_final           = 0.6;  // s
+  PetscInt  max_steps         = -1;   // < 0: no limit
+  PetscReal progress_interval = 10.0; // wall-clock s between progress lines
+  PetscBool write_particles   = PETSC_TRUE;
+  char      output_dir[PETSC_MAX_PATH_LEN] = "output";
+};
+
+struct Simulation {
+  MPI_Comm        comm = MPI_COMM_NULL;
+  Domain          domain;
+  ParticleProps   props;
+  Grids           grids;
+  PhaseLog        log;
+  RunControl      run;
+  Monitor         monitor;
+  InsertionReport inserted;
+  Dem            *dem   = nullptr;
+  DM              swarm = nullptr;
+  PetscInt64      step  = 0;
+  PetscReal       time  = 0.0;
+  double          wall_setup = 0.0, wall_run = 0.0;
+};
+
+PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);
+// Reads every option, creates grids and particles, and prepares the first step.
+PetscErrorCode SimulationSetUp(Simulation *sim);
+PetscErrorCode SimulationRun(Simulation *sim);
+PetscErrorCode SimulationDestroy(Simulation **sim);
+
+} // namespace fluidbed

@@ -1,0 +1,140 @@
+// Verlet neighbour lists built with bins of about one particle diameter (the largest contact cutoff
+// 2 r_max + skin), not the 3 d particle cells: each particle then tests about 40 candidates instead of ~350.
+// Lists are full (each pair appears for both particles) and sorted by partner id, which fixes the order in
+// which contact forces are summed (see dem.hpp).
+#include "fluidbed/dem.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidbed {
+
+PetscErrorCode DemNeighbourBuild(Dem *dem)
+{
+  const Domain       &dom    = *dem->dom;
+  const ParticleGrid &pg     = *dem->pgrid;
+  const int           dim    = (int)dom.dim;
+  const PetscInt      ntotal = (PetscInt)dem->bodies.size();
+  const PetscInt      nlocal = ntotal - dem->ghosts.n;
+  const PetscReal     skin   = dem->skin;
+  NeighbourList      &nl     = dem->nl;
+  ParticleArrays      p;
+
+  PetscFunctionBeginUser;
+  // Binning positions: ghosts at their periodic image next to this subdomain.
+  std::vector<kernels::Vec3> pos((std::size_t)ntotal);
+  for (PetscInt k = 0; k < ntotal; ++k) {
+    pos[(std::size_t)k] = dem->bodies[(std::size_t)k].x;
+    if (k >= nlocal) {
+      const PetscReal *s = &dem->ghosts.shift[3 * (std::size_t)(k - nlocal)];
+      pos[(std::size_t)k] += kernels::Vec3{s[0], s[1], s[2]};
+    }
+  }
+  dem->body_id.resize((std::size_t)ntotal);
+
+  // Bins covering the subdomain plus the halo plus drift.
+  const PetscReal bin_min = 2.0 * 0.5 * dem->props->d_max + skin;
+  PetscReal       origin[3], width[3];
+  PetscInt        nb[3];
+  for (int a = 0; a < 3; ++a) {
+    if (a < dim) {
+      origin[a]        = pg.sub_lo[a] - dem->halo - skin;
+      const PetscReal L = (pg.sub_hi[a] - pg.sub_lo[a]) + 2.0 * (dem->halo + skin);
+      nb[a]            = PetscMax(1, (PetscInt)std::floor(L / bin_min));
+      width[a]         = L / nb[a];
+    } else {
+      origin[a] = -1.0;
+      nb[a]     = 1;
+      width[a]  = 1e300;
+    }
+  }
+  auto bin_of = [&](const kernels::Vec3 &x, PetscInt c[3]) {
+    const PetscReal xx[3] = {x.x, x.y, x.z};
+    for (int a = 0; a < 3; ++a) c[a] = a < dim ? PetscMin(PetscMax((PetscInt)std::floor((xx[a] - origin[a]) / width[a]), 0), nb[a] - 1) : 0;
+  };
+  const PetscInt        nbins = nb[0] * nb[1] * nb[2];
+  std::vector<PetscInt> bin_start((std::size_t)nbins + 1, 0), bin_body((std::size_t)ntotal), body_bin((std::size_t)ntotal);
+  for (PetscInt k = 0; k < ntotal; ++k) {
+    PetscInt c[3];
+    bin_of(pos[(std::size_t)k], c);
+    body_bin[(std::size_t)k] = c[0] + nb[0] * (c[1] + nb[1] * c[2]);
+    bin_start[(std::size_t)body_bin[(std::size_t)k] + 1]++;
+  }
+  for (PetscInt b = 0; b < nbins; ++b) bin_start[(std::size_t)b + 1] += bin_start[(std::size_t)b];
+  {
+    std::vector<PetscInt> fill(bin_start.begin(), bin_start.end() - 1);
+    for (PetscInt k = 0; k < ntotal; ++k) bin_body[(std::size_t)fill[(std::size_t)body_bin[(std::size_t)k]]++] = k;
+  }
+
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  for (PetscInt i = 0; i < nlocal; ++i) dem->body_id[(std::size_t)i] = p.id[i];
+  for (PetscInt g = 0; g < dem->ghosts.n; ++g) dem->body_id[(std::size_t)(nlocal + g)] = dem->ghosts.id[(std::size_t)g];
+
+  nl.start.assign((std::size_t)nlocal + 1, 0);
+  nl.partner.clear();
+  const int zr = dim == 3 ? 1 : 0;
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const kernels::Vec3 &xi = pos[(std::size_t)i];
+    const PetscReal      ri = dem->bodies[(std::size_t)i].r;
+    PetscInt             c[3];
+    bin_of(xi, c);
+    const std::size_t first = nl.partner.size();
+    for (int oz = -zr; oz <= zr; ++oz) {
+      const PetscInt cz = c[2] + oz;
+      if (cz < 0 || cz >= nb[2]) continue;
+      for (int oy = -1; oy <= 1; ++oy) {
+        const PetscInt cy = c[1] + oy;
+        if (cy < 0 || cy >= nb[1]) continue;
+        for (int ox = -1; ox <= 1; ++ox) {
+          const PetscInt cx = c[0] + ox;
+          if (cx < 0 || cx >= nb[0]) continue;
+          const PetscInt b = cx + nb[0] * (cy + nb[1] * cz);
+          for (PetscInt q = bin_start[(std::size_t)b]; q < bin_start[(std::size_t)b + 1]; ++q) {
+            const PetscInt j = bin_body[(std::size_t)q];
+            if (j == i) continue;
+            const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + skin;
+            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut) nl.partner.push_back(j);
+          }
+        }
+      }
+    }
+    std::sort(nl.partner.begin() + (std::ptrdiff_t)first, nl.partner.end(),
+              [&](PetscInt a, PetscInt b) { return dem->body_id[(std::size_t)a] < dem->body_id[(std::size_t)b]; });
+    nl.start[(std::size_t)i + 1] = (PetscInt)nl.partner.size();
+  }
+
+  // Attach each listed pair to its history slot; free slots of partners no longer listed (they left the
+  // system or moved beyond the cutoff); record which walls hold slots.
+  const PetscInt K = p.K;
+  nl.slot.assign(nl.partner.size(), -1);
+  dem->wall_mask.assign((std::size_t)nlocal, 0);
+  std::vector<char> used((std::size_t)K);
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    PetscInt64 *key = &p.ckey[K * i];
+    std::fill(used.begin(), used.end(), 0);
+    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
+      const PetscInt64 pid = dem->body_id[(std::size_t)nl.partner[(std::size_t)e]];
+      for (PetscInt s = 0; s < K; ++s)
+        if (key[s] == pid) {
+          nl.slot[(std::size_t)e] = s;
+          used[(std::size_t)s]    = 1;
+          break;
+        }
+    }
+    for (PetscInt s = 0; s < K; ++s) {
+      if (key[s] <= -2) dem->wall_mask[(std::size_t)i] |= (unsigned char)(1u << (-2 - key[s]));
+      else if (key[s] >= 0 && !used[(std::size_t)s]) {
+        key[s] = kFreeSlot;
+        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = 0.0;
+      }
+    }
+  }
+  dem->x_ref.resize(3 * (std::size_t)nlocal);
+  for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt a = 0; a < 3; ++a) dem->x_ref[3 * (std::size_t)i + a] = a < p.dim ? p.x[p.dim * i + a] : 0.0;
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  dem->stats.rebuilds++;
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

@@ -1,0 +1,102 @@
+#include "fluidbed/io.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+
+namespace fluidbed {
+
+PetscErrorCode WriteParticlesCSV(DM sw, const char *path)
+{
+  constexpr int          kCols = 14; // id, d, x(3), v(3), w(3), f(3)
+  MPI_Comm               comm  = PetscObjectComm((PetscObject)sw);
+  PetscMPIInt            rank, size;
+  ParticleArrays         p;
+  std::vector<PetscReal> rows;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(ParticleArraysGet(sw, &p));
+  rows.assign((std::size_t)p.n * kCols, 0.0);
+  for (PetscInt i = 0; i < p.n; ++i) {
+    PetscReal *r = &rows[(std::size_t)i * kCols];
+    r[0]         = (PetscReal)p.id[i]; // exact below 2^53
+    r[1]         = p.d[i];
+    for (PetscInt a = 0; a < p.dim; ++a) r[2 + a] = p.x[p.dim * i + a];
+    for (int a = 0; a < 3; ++a) {
+      r[5 + a]  = p.v[3 * i + a];
+      r[8 + a]  = p.w[3 * i + a];
+      r[11 + a] = p.f[3 * i + a];
+    }
+  }
+  PetscCall(ParticleArraysRestore(sw, &p));
+
+  int              nloc = (int)rows.size();
+  std::vector<int> counts(size), displs(size, 0);
+  PetscCallMPI(MPI_Gather(&nloc, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
+  std::vector<PetscReal> all;
+  if (!rank) {
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize((std::size_t)(displs[size - 1] + counts[size - 1]));
+  }
+  PetscCallMPI(MPI_Gatherv(rows.data(), nloc, MPIU_REAL, all.data(), counts.data(), displs.data(), MPIU_REAL, 0, comm));
+  if (!rank) {
+    const std::size_t        n = all.size() / kCols;
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[a * kCols] < all[b * kCols]; });
+    FILE *fp = fopen(path, "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
+    fprintf(fp, "id,d,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
+    for (std::size_t k : order) {
+      const PetscReal *r = &all[k * kCols];
+      fprintf(fp, "%lld", (long long)r[0]);
+      for (int c = 1; c < kCols; ++c) fprintf(fp, ",%.17g", (double)r[c]);
+      fprintf(fp, "\n");
+    }
+    fclose(fp);
+  }
+  PetscFunctionReturn(0);
+}
+
+namespace {
+std::string Quote(const std::string &s)
+{
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+} // namespace
+
+void JsonWriter::Number(const char *key, double v)
+{
+  char buf[64];
+  if (std::isfinite(v)) snprintf(buf, sizeof(buf), "%.10g", v);
+  else snprintf(buf, sizeof(buf), "null");
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + buf;
+}
+void JsonWriter::Integer(const char *key, long long v) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + std::to_string(v); }
+void JsonWriter::String(const char *key, const std::string &v) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + Quote(v); }
+void JsonWriter::Object(const char *key, const JsonWriter &inner) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + inner.Text(); }
+std::string JsonWriter::Text() const { return "{\n" + body + "\n}"; }
+
+PetscErrorCode JsonWrite(MPI_Comm comm, const char *path, const JsonWriter &json)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) {
+    FILE *fp = fopen(path, "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
+    fprintf(fp, "%s\n", json.Text().c_str());
+    fclose(fp);
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

@@ -1,0 +1,107 @@
+// The DEM step: kick-drift, (rebuild: migrate, ghosts, lists), ghost refresh, contact forces, kick.
+#include "fluidbed/dem.hpp"
+
+namespace fluidbed {
+
+namespace {
+
+PetscErrorCode Rebuild(Dem *dem)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PhaseBegin(dem->log, PHASE_MIGRATE));
+  PetscCall(DemMigrate(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_MIGRATE));
+  PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
+  PetscCall(DemPackBodies(dem));
+  PetscCall(DemGhostsBuild(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_GHOSTS));
+  PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
+  PetscCall(DemNeighbourBuild(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_NEIGHBOUR));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &pgrid, const ParticleProps &props, PhaseLog *log, Dem **dem)
+{
+  Dem *d = new Dem;
+
+  PetscFunctionBeginUser;
+  d->dom   = &dom;
+  d->pgrid = &pgrid;
+  d->props = &props;
+  d->log   = log;
+  PetscCall(DemParamsSetFromOptions(comm, dom, props, &d->par));
+  d->skin = d->par.skin * props.d_max;
+  d->halo = props.d_max + d->skin;
+  for (int a = 0; a < dom.dim; ++a)
+    PetscCheck(!dom.periodic[a] || dom.len[a] >= 2.0 * d->halo, comm, PETSC_ERR_USER_INPUT,
+               "periodic length %.6g m along axis %d is shorter than two contact cutoffs (%.6g m): enlarge the domain", (double)dom.len[a], a,
+               (double)(2.0 * d->halo));
+  PetscCallMPI(MPI_Type_contiguous((int)(sizeof(ContactBody) / sizeof(PetscReal)), MPIU_REAL, &d->ghosts.body_type));
+  PetscCallMPI(MPI_Type_commit(&d->ghosts.body_type));
+  *dem = d;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ParticlesCreate(PetscObjectComm((PetscObject)dem->pgrid->da_vertex), *dem->dom, *dem->pgrid, dem->par.max_contacts, swarm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemSetUp(Dem *dem, DM swarm)
+{
+  PetscFunctionBeginUser;
+  dem->swarm = swarm;
+  PetscCall(Rebuild(dem));
+  PetscCall(PhaseBegin(dem->log, PHASE_CONTACT));
+  PetscCall(DemContactForces(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_CONTACT));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemStep(Dem *dem)
+{
+  PetscBool need_local, need;
+
+  PetscFunctionBeginUser;
+  PetscCall(PhaseBegin(dem->log, PHASE_INTEGRATE));
+  PetscCall(DemKickDrift(dem, &need_local));
+  PetscCall(PhaseEnd(dem->log, PHASE_INTEGRATE));
+
+  PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
+  PetscCallMPI(MPI_Allreduce(&need_local, &need, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)dem->swarm)));
+  PetscCall(PhaseEnd(dem->log, PHASE_NEIGHBOUR));
+  if (need) PetscCall(Rebuild(dem));
+  else {
+    PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
+    PetscCall(DemPackBodies(dem));
+    PetscCall(DemGhostsUpdate(dem));
+    PetscCall(PhaseEnd(dem->log, PHASE_GHOSTS));
+  }
+
+  PetscCall(PhaseBegin(dem->log, PHASE_CONTACT));
+  PetscCall(DemContactForces(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_CONTACT));
+
+  PetscCall(PhaseBegin(dem->log, PHASE_INTEGRATE));
+  PetscCall(DemKick(dem));
+  PetscCall(PhaseEnd(dem->log, PHASE_INTEGRATE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemDestroy(Dem **dem)
+{
+  PetscFunctionBeginUser;
+  if (!*dem) PetscFunctionReturn(0);
+  PetscCall(DemGhostsDestroy(&(*dem)->ghosts));
+  PetscCallMPI(MPI_Type_free(&(*dem)->ghosts.body_type));
+  delete *dem;
+  *dem = nullptr;
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

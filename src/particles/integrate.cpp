@@ -1,0 +1,112 @@
+// Velocity-Verlet loops over the local particles (kernels/verlet.hpp) and the per-step packing of the contact
+// bodies with predicted velocities.
+#include "fluidbed/dem.hpp"
+#include "fluidbed/kernels/periodic.hpp"
+#include "fluidbed/kernels/verlet.hpp"
+
+namespace fluidbed {
+
+using kernels::Vec3;
+
+namespace {
+
+inline Vec3 Load3(const PetscReal *a, PetscInt i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
+inline void Store3(PetscReal *a, PetscInt i, const Vec3 &v)
+{
+  a[3 * i]     = v.x;
+  a[3 * i + 1] = v.y;
+  a[3 * i + 2] = v.z;
+}
+
+// Planar motion (2D grids or -dem_pseudo2d): no out-of-plane velocity, spin only about z.
+inline void ConstrainPlanar(Vec3 &v, Vec3 &w)
+{
+  v.z = 0.0;
+  w.x = w.y = 0.0;
+}
+
+} // namespace
+
+PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
+{
+  const Domain   &dom    = *dem->dom;
+  const PetscReal dt     = dem->par.dt, h = 0.5 * dt;
+  const bool      planar = dom.dim == 2 || dem->par.pseudo2d;
+  const PetscReal lim2   = 0.25 * dem->skin * dem->skin;
+  ParticleArrays  p;
+  PetscBool       rebuild = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  const PetscInt dim = p.dim;
+  for (PetscInt i = 0; i < p.n; ++i) {
+    const PetscReal m = dem->props->Mass(p.d[i]), inv_m = 1.0 / m, inv_I = 1.0 / kernels::sphere_inertia(m, p.d[i]);
+    Vec3            v = Load3(p.v, i), w = Load3(p.w, i);
+    kernels::kick(v, Load3(p.f, i), inv_m, h);
+    kernels::kick(w, Load3(p.t, i), inv_I, h);
+    if (planar) ConstrainPlanar(v, w);
+    Store3(p.v, i, v);
+    Store3(p.w, i, w);
+    const PetscReal vv[3] = {v.x, v.y, v.z};
+    PetscReal       d2    = 0.0;
+    for (PetscInt a = 0; a < dim; ++a) {
+      PetscReal x = p.x[dim * i + a] + dt * vv[a];
+      if (dom.periodic[a]) {
+        if (x >= dom.hi[a]) x -= dom.len[a];
+        else if (x < dom.lo[a]) x += dom.len[a];
+      }
+      p.x[dim * i + a] = x;
+      const PetscReal dx = kernels::min_image(x - dem->x_ref[3 * i + a], dom.periodic[a] ? dom.len[a] : 0.0);
+      d2 += dx * dx;
+    }
+    if (d2 > lim2) rebuild = PETSC_TRUE;
+  }
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  *need_rebuild = rebuild;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemKick(Dem *dem)
+{
+  const PetscReal h      = 0.5 * dem->par.dt;
+  const bool      planar = dem->dom->dim == 2 || dem->par.pseudo2d;
+  ParticleArrays  p;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  for (PetscInt i = 0; i < p.n; ++i) {
+    const PetscReal m = dem->props->Mass(p.d[i]);
+    Vec3            v = Load3(p.v, i), w = Load3(p.w, i);
+    kernels::kick(v, Load3(p.f, i), 1.0 / m, h);
+    v += (1.0 / m) * Load3(dem->impulse.data(), i); // exact dashpot impulse (kernels/contact_lsd.hpp)
+    kernels::kick(w, Load3(p.t, i), 1.0 / kernels::sphere_inertia(m, p.d[i]), h);
+    if (planar) ConstrainPlanar(v, w);
+    Store3(p.v, i, v);
+    Store3(p.w, i, w);
+  }
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemPackBodies(Dem *dem)
+{
+  const PetscReal h = 0.5 * dem->par.dt;
+  ParticleArrays  p;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  dem->bodies.resize((std::size_t)(p.n + dem->ghosts.n));
+  for (PetscInt i = 0; i < p.n; ++i) {
+    ContactBody    &b = dem->bodies[(std::size_t)i];
+    const PetscReal m = dem->props->Mass(p.d[i]);
+    b.x               = {p.x[p.dim * i], p.x[p.dim * i + 1], p.dim == 3 ? p.x[3 * i + 2] : 0.0};
+    b.v               = kernels::predicted_velocity(Load3(p.v, i), Load3(p.f, i), 1.0 / m, h);
+    b.w               = kernels::predicted_velocity(Load3(p.w, i), Load3(p.t, i), 1.0 / kernels::sphere_inertia(m, p.d[i]), h);
+    b.r               = 0.5 * p.d[i];
+    b.m               = m;
+  }
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed
