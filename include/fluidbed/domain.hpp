@@ -14,9 +14,10 @@ extern const char *const FaceNames[FACE_COUNT];
 
 struct Domain {
   PetscInt  dim = 3;
+  // Defaults: the default scene's box (20 x 40 x 20 mm).
   PetscReal lo[3]{0, 0, 0};
-  PetscReal hi[3]{0.04, 0.04, 0.04};
-  PetscReal len[3]{0.04, 0.04, 0.04};
+  PetscReal hi[3]{0.02, 0.04, 0.02};
+  PetscReal len[3]{0.02, 0.04, 0.02};
   PetscBool periodic[3]{PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
   PetscBool top_outlet = PETSC_FALSE; // particles leaving through y = hi[1] are removed and counted
   PetscReal gravity[3]{0.0, -9.81, 0.0};

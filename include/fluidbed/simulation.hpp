@@ -13,7 +13,7 @@
 namespace fluidbed {
 
 struct RunControl {
-  PetscReal t_final           = 0.6;  // s
+  PetscReal t_final           = 0.3;  // s (the default scene: a 4000-particle pour that settles)
   PetscInt  max_steps         = -1;   // < 0: no limit
   PetscReal progress_interval = 10.0; // wall-clock s between progress lines
   PetscBool write_particles   = PETSC_TRUE;

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Shared set-up for scripts/run.sh and scripts/test.sh: installs the Debian packages fluidbed needs when any is
+# missing, then configures and builds in build/ (or $FLUIDBED_BUILD_DIR). Sourced, not run.
+set -euo pipefail
+
+FLUIDBED_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+FLUIDBED_BUILD_DIR=${FLUIDBED_BUILD_DIR:-$FLUIDBED_ROOT/build}
+FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
+                   cmake make g++ pkg-config)
+
+fluidbed_install_packages() {
+  local missing=()
+  for p in "${FLUIDBED_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    echo "fluidbed: installing Debian packages: ${missing[*]}"
+    local sudo=""
+    [[ $(id -u) -ne 0 ]] && sudo=sudo
+    $sudo apt-get update
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+  fi
+}
+
+fluidbed_build() {
+  cmake -S "$FLUIDBED_ROOT" -B "$FLUIDBED_BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$FLUIDBED_BUILD_DIR" -j "$(nproc)"
+}
+
+# Open MPI refuses to run as root without these; CI machines and containers often are root.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+
+fluidbed_install_packages
+fluidbed_build
