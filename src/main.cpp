@@ -8,13 +8,16 @@ static const char help[] = "fluidbed: soft-sphere DEM (and, with the gas on, CFD
 namespace {
 
 // Errors caused by the input (out-of-range or inconsistent options) get one clear line instead of a traceback.
-bool IsInputError(PetscErrorCode n) { return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_FILE_OPEN; }
+bool IsInputError(PetscErrorCode n)
+{
+  return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_USER || n == PETSC_ERR_FILE_OPEN;
+}
 
 PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
   if (p == PETSC_ERROR_INITIAL && IsInputError(n)) {
     PetscMPIInt rank = 0;
-    if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank); // options errors are raised on every rank: print once
     if (!rank) fprintf(stderr, "fluidbed: error: %s\n", mess);
     return n;
   }

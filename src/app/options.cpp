@@ -56,8 +56,8 @@ PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char name
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal_Private(PetscOptionsObject, name, help.c_str(), "", *value, value, &flg));
-  PetscCheck(InRange(range, *value), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s = %.6g is out of range: allowed %s %s",
-             OptionName(PetscOptionsObject, name), (double)*value, rs.c_str(), unit ? unit : "");
+  PetscCheck(InRange(range, *value), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s = %.6g is out of range: allowed %s%s%s",
+             OptionName(PetscOptionsObject, name), (double)*value, rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");
   if (set) *set = flg;
   PetscFunctionReturn(0);
 }
@@ -91,8 +91,8 @@ PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char
   PetscCheck(!flg || !exact || *n == nmax, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s needs %" PetscInt_FMT " comma-separated values, got %" PetscInt_FMT,
              OptionName(PetscOptionsObject, name), nmax, *n);
   for (PetscInt i = 0; i < *n; ++i)
-    PetscCheck(InRange(range, values[i]), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s entry %" PetscInt_FMT " = %.6g is out of range: allowed %s %s",
-               OptionName(PetscOptionsObject, name), i, (double)values[i], rs.c_str(), unit ? unit : "");
+    PetscCheck(InRange(range, values[i]), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s entry %" PetscInt_FMT " = %.6g is out of range: allowed %s%s%s",
+               OptionName(PetscOptionsObject, name), i, (double)values[i], rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");
   if (set) *set = flg;
   PetscFunctionReturn(0);
 }
