@@ -45,10 +45,21 @@ struct ContactBody {
 };
 
 // Verlet neighbour list: for each local particle, the bodies within r_i + r_j + skin, sorted by id.
+struct NeighbourEntry {
+  PetscInt  partner;   // body index
+  PetscInt  slot;      // history slot of the contact, -1 when not in contact
+  PetscReal sqrt_meff; // sqrt of the pair's effective mass, constant for the pair
+  PetscInt  mirror;    // the partner's entry for this pair when the partner is local, else -1
+};
+// What one listed pair adds to its particle this step: the contact force, n x f_t (the torque is r n x f_t) and
+// the dashpot impulse correction; zero when the pair is apart.
+struct ContactContribution {
+  kernels::Vec3 force, n_cross_ft, impulse;
+};
+
 struct NeighbourList {
-  std::vector<PetscInt> start;   // nlocal + 1 offsets
-  std::vector<PetscInt> partner; // body index
-  std::vector<PetscInt> slot;    // history slot of the contact, -1 when not in contact
+  std::vector<PetscInt>       start; // nlocal + 1 offsets
+  std::vector<NeighbourEntry> entries;
 };
 
 // Ghost particles of the 26 (3D) or 8 (2D) neighbouring subdomains, periodic images included. Built at each
@@ -91,6 +102,8 @@ struct Dem {
   std::vector<PetscReal>    impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
   std::vector<unsigned char> wall_mask; // bit f set: the particle holds a history slot for wall f
   NeighbourList             nl;
+  std::vector<ContactContribution> contributions;       // per neighbour entry, this step
+  std::vector<unsigned char>       contribution_active; // the entry's contribution is set (the pair touched)
   GhostExchange             ghosts;
   DemStats                  stats;
   DemExternalForce          external = nullptr;
@@ -108,12 +121,17 @@ PetscErrorCode DemDestroy(Dem **dem);
 
 // Pieces of the step (src/particles, src/contact), exposed for tests and the coupled solver.
 PetscErrorCode DemMigrate(Dem *dem);
+PetscErrorCode DemSortLocal(Dem *dem); // orders the local particles' storage by neighbour bin
+PetscErrorCode ParticlesPermute(DM swarm, const std::vector<PetscInt> &order); // new[k] = old[order[k]], every field
 PetscErrorCode DemPackBodies(Dem *dem);
 PetscErrorCode DemGhostsBuild(Dem *dem);
 PetscErrorCode DemGhostsUpdate(Dem *dem);
 PetscErrorCode DemGhostsDestroy(GhostExchange *gx);
 PetscErrorCode DemNeighbourBuild(Dem *dem);
 PetscErrorCode DemContactForces(Dem *dem);
+// Between rebuilds only the smaller-id side of a local pair keeps its history current; this copies it
+// (negated) to the partner. Called before particles migrate and before a checkpoint.
+PetscErrorCode DemSyncPairHistory(Dem *dem);
 PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild);
 PetscErrorCode DemKick(Dem *dem);
 

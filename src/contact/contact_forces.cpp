@@ -60,55 +60,91 @@ struct WallFace {
   Vec3      n;     // unit normal from the particle into the wall
 };
 
-// Everything one contact adds to body i, from its kinematics and its history slot.
-struct ContactSums {
-  Vec3      F, T, J; // force, torque, dashpot impulse correction
-  PetscInt64 contacts = 0;
-  PetscReal max_rel   = 0;
-};
+// What one contact adds to body i: force, n x f_t (the torque on i is r_i n x f_t, on j r_j n x f_t), and the
+// dashpot impulse correction. Seen from j the contribution is Mirror(c), bit for bit what j would compute.
+using Contribution = ContactContribution;
+inline Contribution Mirror(const Contribution &c) { return {-c.force, c.n_cross_ft, -c.impulse}; }
+inline SlotHistory  Mirror(const SlotHistory &h) { return {-h.xi, h.overlap, h.damping}; }
 
-inline void AddContact(const kernels::LsdModel &m, const kernels::ContactKinematics &kin, PetscReal r_i, PetscReal d_ref, PetscReal dt,
-                       const ParticleArrays &p, PetscInt i, PetscInt s, ContactSums &sum)
+// Eq. 2.3-2.10 for one contact in contact; updates the slot history h.
+[[gnu::always_inline]] inline Contribution Evaluate(const kernels::LsdModel &m, const kernels::ContactKinematics &kin, PetscReal dt, SlotHistory &h)
 {
-  SlotHistory                 h  = LoadSlot(p, i, s);
   const kernels::ContactForce cf = kernels::lsd_contact(m, kin, dt, h.xi);
-  sum.J += kernels::damping_impulse_correction(m.damp_n * PetscSqrtReal(kin.m_eff), h.overlap, kin.overlap, h.damping, cf.damping_n, 0.5 * dt, kin.n);
-  h.overlap = kin.overlap;
-  h.damping = cf.damping_n;
-  StoreSlot(p, i, s, h);
-  sum.F += cf.normal;
-  sum.F += cf.tangential;
-  sum.T += r_i * kernels::cross(kin.n, cf.tangential);
-  sum.max_rel = PetscMax(sum.max_rel, kin.overlap / d_ref);
-  ++sum.contacts;
+  const Vec3 J = kernels::damping_impulse_correction(cf.eta_n, h.overlap, kin.overlap, h.damping, cf.damping_n, 0.5 * dt, kin.n);
+  h.overlap    = kin.overlap;
+  h.damping    = cf.damping_n;
+  return {cf.normal + cf.tangential, kernels::cross(kin.n, cf.tangential), J};
 }
 
-// The contact ended inside this step: close its dashpot impulse (overlap back to zero) and free the slot.
-inline void EndContact(const kernels::LsdModel &m, PetscReal m_eff, const Vec3 &n, PetscReal dt, const ParticleArrays &p, PetscInt i, PetscInt s,
-                       ContactSums &sum)
+// The contact ended inside this step: only the dashpot impulse, closed with the overlap back at zero.
+inline Contribution EndContribution(const kernels::LsdModel &m, PetscReal sqrt_meff, const Vec3 &n, PetscReal dt, const SlotHistory &h)
 {
-  const SlotHistory h = LoadSlot(p, i, s);
-  sum.J += kernels::damping_impulse_correction(m.damp_n * PetscSqrtReal(m_eff), h.overlap, 0.0, h.damping, 0.0, 0.5 * dt, n);
+  return {Vec3{}, Vec3{}, kernels::damping_impulse_correction(m.damp_n * sqrt_meff, h.overlap, 0.0, h.damping, 0.0, 0.5 * dt, n)};
+}
+
+void FreeSlot(const ParticleArrays &p, PetscInt i, PetscInt s)
+{
   p.ckey[p.K * i + s] = kFreeSlot;
   StoreSlot(p, i, s, SlotHistory{});
 }
 
+struct Sums {
+  Vec3 F, T, J;
+  void Add(const Contribution &c, PetscReal r)
+  {
+    F += c.force;
+    T += r * c.n_cross_ft;
+    J += c.impulse;
+  }
+};
+
 } // namespace
+
+PetscErrorCode DemSyncPairHistory(Dem *dem)
+{
+  NeighbourList &nl     = dem->nl;
+  const PetscInt nlocal = (PetscInt)nl.start.size() - 1;
+  ParticleArrays p;
+
+  PetscFunctionBeginUser;
+  if (nlocal <= 0) PetscFunctionReturn(0);
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const PetscInt64 id = dem->body_id[(std::size_t)i];
+    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
+      NeighbourEntry &ne = nl.entries[(std::size_t)e];
+      const PetscInt  j  = ne.partner;
+      if (j >= nlocal || dem->body_id[(std::size_t)j] < id) continue; // not a local pair evaluated from i's side
+      NeighbourEntry &me = nl.entries[(std::size_t)ne.mirror];
+      if (ne.slot >= 0) {
+        if (me.slot < 0) PetscCall(AllocSlot(p, j, id, &me.slot));
+        StoreSlot(p, j, me.slot, Mirror(LoadSlot(p, i, ne.slot)));
+      } else if (me.slot >= 0) {
+        FreeSlot(p, j, me.slot);
+        me.slot = -1;
+      }
+    }
+  }
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode DemContactForces(Dem *dem)
 {
-  const Domain        &dom = *dem->dom;
-  const DemParams     &par = dem->par;
-  const PetscReal      dt  = par.dt;
-  const PetscInt       nlocal = (PetscInt)dem->bodies.size() - dem->ghosts.n;
-  const PetscReal      period[3] = {dom.periodic[0] ? dom.len[0] : 0.0, dom.periodic[1] ? dom.len[1] : 0.0, dom.periodic[2] ? dom.len[2] : 0.0};
-  const Vec3           g = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
-  const NeighbourList &nl = dem->nl;
-  ParticleArrays       p;
-  WallFace             walls[FACE_COUNT];
-  int                  nwalls   = 0;
-  PetscInt64           contacts = 0;
-  PetscReal            max_rel  = dem->stats.max_overlap_rel;
+  const Domain    &dom       = *dem->dom;
+  const DemParams &par       = dem->par;
+  const PetscReal  dt        = par.dt;
+  const PetscInt   nlocal    = (PetscInt)dem->bodies.size() - dem->ghosts.n;
+  const PetscReal  period[3] = {dom.periodic[0] ? dom.len[0] : 0.0, dom.periodic[1] ? dom.len[1] : 0.0, dom.periodic[2] ? dom.len[2] : 0.0};
+  const bool       periodic  = dom.periodic[0] || dom.periodic[1] || dom.periodic[2];
+  const Vec3       g         = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
+  NeighbourList   &nl        = dem->nl;
+  auto            &contrib   = dem->contributions;
+  ParticleArrays   p;
+  WallFace         walls[FACE_COUNT];
+  int              nwalls   = 0;
+  PetscInt64       contacts = 0;
+  PetscReal        max_rel  = dem->stats.max_overlap_rel;
 
   PetscFunctionBeginUser;
   for (int f = 0; f < 2 * dom.dim; ++f) {
@@ -119,13 +155,65 @@ PetscErrorCode DemContactForces(Dem *dem)
     walls[nwalls++] = {f, a, (f % 2) ? dom.hi[a] : dom.lo[a], n};
   }
   dem->impulse.assign(3 * (std::size_t)nlocal, 0.0);
+  contrib.resize(nl.entries.size());
+  dem->contribution_active.resize(nl.entries.size());
 
   PetscCall(ParticleArraysGet(dem->swarm, &p));
+  // Pass 1: each pair once. A pair of two local particles is evaluated from the side with the smaller id and its
+  // contribution mirrored into the partner's entry; only that side's history is kept up to date between
+  // rebuilds (DemSyncPairHistory copies it to the partner before particles move). A pair with a ghost is
+  // evaluated from the local side (the ghost's owner evaluates its own side). Every entry is written every step.
   for (PetscInt i = 0; i < nlocal; ++i) {
     const ContactBody &bi = dem->bodies[(std::size_t)i];
-    ContactSums        sum;
+    const PetscInt64   id = dem->body_id[(std::size_t)i];
+    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
+      NeighbourEntry &ne      = nl.entries[(std::size_t)e];
+      const PetscInt  j       = ne.partner;
+      const bool      j_local = j < nlocal;
+      if (j_local && dem->body_id[(std::size_t)j] < id) continue; // evaluated from j's side
+      const ContactBody &bj = dem->bodies[(std::size_t)j];
+      Vec3               d  = bj.x - bi.x;
+      if (periodic) {
+        d.x = kernels::min_image(d.x, period[0]);
+        d.y = kernels::min_image(d.y, period[1]);
+        d.z = kernels::min_image(d.z, period[2]);
+      }
+      const PetscReal dist2  = kernels::norm2(d);
+      const PetscReal rsum   = bi.r + bj.r;
+      unsigned char   active = 1;
+      Contribution    c;
+      if (dist2 < rsum * rsum) {
+        if (ne.slot < 0) PetscCall(AllocSlot(p, i, dem->body_id[(std::size_t)j], &ne.slot));
+        const kernels::ContactKinematics kin = kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, ne.sqrt_meff);
+        SlotHistory                      h   = LoadSlot(p, i, ne.slot);
+        c                                    = Evaluate(par.pp, kin, dt, h);
+        StoreSlot(p, i, ne.slot, h);
+        contacts += j_local ? 2 : 1;
+        max_rel = PetscMax(max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
+      } else if (ne.slot >= 0) {
+        c = EndContribution(par.pp, ne.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, LoadSlot(p, i, ne.slot));
+        FreeSlot(p, i, ne.slot);
+        ne.slot = -1;
+      } else active = 0; // apart: the entry adds nothing and its contribution is not stored
+      dem->contribution_active[(std::size_t)e] = active;
+      if (active) contrib[(std::size_t)e] = c;
+      if (j_local) {
+        dem->contribution_active[(std::size_t)ne.mirror] = active;
+        if (active) contrib[(std::size_t)ne.mirror] = Mirror(c);
+      }
+    }
+  }
 
-    for (int k = 0; k < nwalls; ++k) {
+  // Pass 2: each particle sums walls (in face order), then its pairs in increasing partner id, then gravity.
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const ContactBody &bi = dem->bodies[(std::size_t)i];
+    Sums               sum;
+
+    // One test decides whether this particle is near any wall or still holds a wall contact.
+    bool near_wall = dem->wall_mask[(std::size_t)i] != 0;
+    for (int k = 0; k < nwalls; ++k)
+      near_wall |= ((walls[k].face % 2) ? walls[k].plane - (&bi.x.x)[walls[k].axis] : (&bi.x.x)[walls[k].axis] - walls[k].plane) < bi.r;
+    for (int k = 0; k < nwalls && near_wall; ++k) {
       const WallFace &w   = walls[k];
       const PetscReal xa  = (&bi.x.x)[w.axis];
       const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
@@ -137,45 +225,32 @@ PetscErrorCode DemContactForces(Dem *dem)
           PetscCall(AllocSlot(p, i, WallKey(w.face), &s));
           dem->wall_mask[(std::size_t)i] |= (unsigned char)bit;
         }
-        AddContact(par.pw, kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m), bi.r, 2.0 * bi.r, dt, p, i, s, sum);
+        const kernels::ContactKinematics kin = kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m);
+        SlotHistory                      h   = LoadSlot(p, i, s);
+        sum.Add(Evaluate(par.pw, kin, dt, h), bi.r);
+        StoreSlot(p, i, s, h);
+        max_rel = PetscMax(max_rel, kin.overlap / (2.0 * bi.r));
+        ++contacts;
       } else if (dem->wall_mask[(std::size_t)i] & bit) {
-        EndContact(par.pw, bi.m, w.n, dt, p, i, FindSlot(p, i, WallKey(w.face)), sum);
+        const PetscInt s = FindSlot(p, i, WallKey(w.face));
+        sum.Add(EndContribution(par.pw, PetscSqrtReal(bi.m), w.n, dt, LoadSlot(p, i, s)), bi.r);
+        FreeSlot(p, i, s);
         dem->wall_mask[(std::size_t)i] &= (unsigned char)~bit;
       }
     }
-
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      const PetscInt     j  = nl.partner[(std::size_t)e];
-      const ContactBody &bj = dem->bodies[(std::size_t)j];
-      Vec3               d  = bj.x - bi.x;
-      d.x                   = kernels::min_image(d.x, period[0]);
-      d.y                   = kernels::min_image(d.y, period[1]);
-      d.z                   = kernels::min_image(d.z, period[2]);
-      const PetscReal dist2 = kernels::norm2(d);
-      const PetscReal rsum  = bi.r + bj.r;
-      PetscInt       &slot  = dem->nl.slot[(std::size_t)e];
-      if (dist2 < rsum * rsum) {
-        if (slot < 0) PetscCall(AllocSlot(p, i, dem->body_id[(std::size_t)j], &slot));
-        AddContact(par.pp, kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, bi.m, bj.m), bi.r,
-                   2.0 * PetscMin(bi.r, bj.r), dt, p, i, slot, sum);
-      } else if (slot >= 0) {
-        EndContact(par.pp, bi.m * bj.m / (bi.m + bj.m), (1.0 / PetscSqrtReal(dist2)) * d, dt, p, i, slot, sum);
-        slot = -1;
-      }
-    }
+    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e)
+      if (dem->contribution_active[(std::size_t)e]) sum.Add(contrib[(std::size_t)e], bi.r);
 
     sum.F += bi.m * g; // gravity, reduced by buoyancy when the gas is on (eq. 2.1)
-    p.f[3 * i]     = sum.F.x;
-    p.f[3 * i + 1] = sum.F.y;
-    p.f[3 * i + 2] = sum.F.z;
-    p.t[3 * i]     = sum.T.x;
-    p.t[3 * i + 1] = sum.T.y;
-    p.t[3 * i + 2] = sum.T.z;
+    p.f[3 * i]                           = sum.F.x;
+    p.f[3 * i + 1]                       = sum.F.y;
+    p.f[3 * i + 2]                       = sum.F.z;
+    p.t[3 * i]                           = sum.T.x;
+    p.t[3 * i + 1]                       = sum.T.y;
+    p.t[3 * i + 2]                       = sum.T.z;
     dem->impulse[3 * (std::size_t)i]     = sum.J.x;
     dem->impulse[3 * (std::size_t)i + 1] = sum.J.y;
     dem->impulse[3 * (std::size_t)i + 2] = sum.J.z;
-    contacts += sum.contacts;
-    max_rel = PetscMax(max_rel, sum.max_rel);
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &p));
   dem->stats.contacts        = contacts;

@@ -71,14 +71,14 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   for (PetscInt g = 0; g < dem->ghosts.n; ++g) dem->body_id[(std::size_t)(nlocal + g)] = dem->ghosts.id[(std::size_t)g];
 
   nl.start.assign((std::size_t)nlocal + 1, 0);
-  nl.partner.clear();
+  nl.entries.clear();
   const int zr = dim == 3 ? 1 : 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
     const kernels::Vec3 &xi = pos[(std::size_t)i];
     const PetscReal      ri = dem->bodies[(std::size_t)i].r;
     PetscInt             c[3];
     bin_of(xi, c);
-    const std::size_t first = nl.partner.size();
+    const std::size_t first = nl.entries.size();
     for (int oz = -zr; oz <= zr; ++oz) {
       const PetscInt cz = c[2] + oz;
       if (cz < 0 || cz >= nb[2]) continue;
@@ -93,30 +93,44 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
             const PetscInt j = bin_body[(std::size_t)q];
             if (j == i) continue;
             const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + skin;
-            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut) nl.partner.push_back(j);
+            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut)
+              nl.entries.push_back({j, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m), -1});
           }
         }
       }
     }
-    std::sort(nl.partner.begin() + (std::ptrdiff_t)first, nl.partner.end(),
-              [&](PetscInt a, PetscInt b) { return dem->body_id[(std::size_t)a] < dem->body_id[(std::size_t)b]; });
-    nl.start[(std::size_t)i + 1] = (PetscInt)nl.partner.size();
+    std::sort(nl.entries.begin() + (std::ptrdiff_t)first, nl.entries.end(), [&](const NeighbourEntry &a, const NeighbourEntry &b) {
+      return dem->body_id[(std::size_t)a.partner] < dem->body_id[(std::size_t)b.partner];
+    });
+    nl.start[(std::size_t)i + 1] = (PetscInt)nl.entries.size();
   }
+
+  // Each local pair appears in both particles' lists: link the two entries.
+  for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
+      const PetscInt j = nl.entries[(std::size_t)e].partner;
+      if (j >= nlocal) continue;
+      for (PetscInt f = nl.start[(std::size_t)j]; f < nl.start[(std::size_t)j + 1]; ++f)
+        if (nl.entries[(std::size_t)f].partner == i) {
+          nl.entries[(std::size_t)e].mirror = f;
+          break;
+        }
+      PetscCheck(nl.entries[(std::size_t)e].mirror >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "neighbour lists are not symmetric");
+    }
 
   // Attach each listed pair to its history slot; free slots of partners no longer listed (they left the
   // system or moved beyond the cutoff); record which walls hold slots.
   const PetscInt K = p.K;
-  nl.slot.assign(nl.partner.size(), -1);
   dem->wall_mask.assign((std::size_t)nlocal, 0);
   std::vector<char> used((std::size_t)K);
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
     std::fill(used.begin(), used.end(), 0);
     for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      const PetscInt64 pid = dem->body_id[(std::size_t)nl.partner[(std::size_t)e]];
+      const PetscInt64 pid = dem->body_id[(std::size_t)nl.entries[(std::size_t)e].partner];
       for (PetscInt s = 0; s < K; ++s)
         if (key[s] == pid) {
-          nl.slot[(std::size_t)e] = s;
+          nl.entries[(std::size_t)e].slot = s;
           used[(std::size_t)s]    = 1;
           break;
         }

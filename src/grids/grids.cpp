@@ -2,6 +2,7 @@
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/grid_ratio.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -12,6 +13,29 @@ namespace {
 const char *const AxisName[3] = {"x", "y", "z"};
 
 // Creates a DMDA of dimension dim with given global sizes, process grid and ownership ranges (NULL: decide).
+// Default process grid: split x and z only (particles settle at the bottom of a bed, so a vertical split
+// leaves the upper ranks idle), choosing the factorisation with the squarest subdomains; fall back to PETSc's
+// choice when x and z have too few cells.
+void HorizontalProcessGrid(PetscInt dim, const PetscInt n[3], PetscMPIInt size, PetscInt procs[3])
+{
+  double best = -1;
+  for (PetscInt px = 1; px <= size; ++px) {
+    if (size % px) continue;
+    const PetscInt pz = dim == 3 ? size / px : 1;
+    if (dim == 2 && px != size) continue;
+    if (px > n[0] || pz > n[2]) continue;
+    const double ax = (double)n[0] / px, az = dim == 3 ? (double)n[2] / pz : ax;
+    const double score = std::min(ax, az) / std::max(ax, az);
+    if (score > best) {
+      best     = score;
+      procs[0] = px;
+      procs[1] = 1;
+      procs[2] = pz;
+    }
+  }
+  if (best < 0) procs[0] = procs[1] = procs[2] = PETSC_DECIDE;
+}
+
 PetscErrorCode CreateDMDA(MPI_Comm comm, PetscInt dim, const DMBoundaryType bt[3], DMDAStencilType st, const PetscInt N[3], const PetscInt procs[3],
                           const PetscInt *const own[3], PetscInt dof, PetscInt sw, DM *da)
 {
@@ -45,7 +69,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
                                  "", ratio, &nratio, &set_ratio));
   PetscCall(OptionsReal(PetscOptionsObject, "-cell_diameters", "Target particle cell size in largest particle diameters, used when -pgrid_ratio is not given",
                         "d", Closed(1.0, 1000.0), &cell_diameters, NULL));
-  PetscCall(PetscOptionsIntArray("-processors", "Process grid m,n[,p] (default: PETSc decides)", "", procs, &nprocs, &set_procs));
+  PetscCall(PetscOptionsIntArray("-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)", "", procs, &nprocs, &set_procs));
   PetscOptionsEnd();
 
   if (set_ratio) {
@@ -99,7 +123,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     if (set_procs) {
       PetscCheck(procs[0] * procs[1] * (dim == 3 ? procs[2] : 1) == nranks, comm, PETSC_ERR_USER_INPUT, "-pgrid_processors product must equal the %d ranks",
                  (int)nranks);
-    }
+    } else HorizontalProcessGrid(dim, pg.n, nranks, procs);
     for (int a = 0; a < dim; ++a) {
       // a rank must own at least one particle cell in every direction
       PetscCheck(!set_procs || procs[a] <= pg.n[a], comm, PETSC_ERR_USER_INPUT, "%d ranks along %s but only %d particle cells", (int)procs[a], AxisName[a],

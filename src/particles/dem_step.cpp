@@ -9,7 +9,9 @@ PetscErrorCode Rebuild(Dem *dem)
 {
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(dem->log, PHASE_MIGRATE));
+  PetscCall(DemSyncPairHistory(dem));
   PetscCall(DemMigrate(dem));
+  PetscCall(DemSortLocal(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_MIGRATE));
   PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
   PetscCall(DemPackBodies(dem));

@@ -179,7 +179,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
       g.v[i].z = 0.0;
       g.w[i].x = g.w[i].y = 0.0;
     }
-    const PetscReal r = 0.5 * g.d[i] * 0.99; // a resting contact overlaps a wall slightly: allow 1% of d
+    const PetscReal r = 0.49 * g.d[i]; // a resting contact overlaps a wall slightly: allow 1% of d
     PetscCheck(g.d[i] > 0.0 && g.d[i] <= props.d_max * (1 + 1e-12), comm, PETSC_ERR_ARG_OUTOFRANGE,
                "particle %lld has diameter %.6g m outside (0, %.6g] (set -particle_diameter_max for larger particles)", (long long)g.id[i], (double)g.d[i],
                (double)props.d_max);
