@@ -26,7 +26,7 @@ def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, t
     cmd = [EXE]
     if options_file:
         cmd += ["-options_file", options_file]
-    cmd += ["-output_dir", outdir, "-progress_interval", "0"] + [str(a) for a in args]
+    cmd += ["-output_dir", outdir] + ([] if "-progress_interval" in [str(a) for a in args] else ["-progress_interval", "0"]) + [str(a) for a in args]
     if nprocs > 1:
         cmd = [MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", str(nprocs)] + cmd
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
