@@ -39,7 +39,10 @@ inline double critical_time(double kn, double e, double m_eff)
 }
 
 // Damping coefficient eta = 2 gamma sqrt(m_eff k) (N s/m) that yields restitution e for a linear spring k.
-inline double damping_coefficient(double k, double e, double m_eff) { return 2.0 * restitution_damping_ratio(e) * std::sqrt(m_eff * k); }
+inline double damping_coefficient(double k, double e, double m_eff)
+{
+  return 2.0 * restitution_damping_ratio(e) * std::sqrt(m_eff * k);
+}
 
 // Parameters of one contact type (particle-particle or particle-wall). The damping coefficients depend on the
 // pair's effective mass, eta = damp * sqrt(m_eff), so one model serves polydisperse beds.
@@ -60,14 +63,17 @@ inline LsdModel lsd_model(double kn, double kt, double e, double mu)
 // Geometry and relative motion of one contact, as seen from body i.
 struct ContactKinematics {
   Vec3   n;               // unit normal from i towards j
-  double overlap   = 0.0; // delta_n, > 0 in contact
+  double overlap = 0.0;   // delta_n, > 0 in contact
   Vec3   v_rel;           // contact-point velocity of i relative to j
   double sqrt_meff = 0.0; // square root of the effective mass, sqrt(kg)
 };
 
 // sqrt(m_i m_j / (m_i + m_j)): constant for a pair, so callers compute it once per neighbour-list entry.
 // Symmetric in i and j bit for bit.
-inline double sqrt_effective_mass(double mi, double mj) { return std::sqrt(mi * mj / (mi + mj)); }
+inline double sqrt_effective_mass(double mi, double mj)
+{
+  return std::sqrt(mi * mj / (mi + mj));
+}
 
 // Kinematics of a particle pair. dij = x_j - x_i (minimum image in periodic directions), dist = |dij| > 0.
 inline ContactKinematics pair_kinematics(const Vec3 &dij, double dist, double ri, double rj, const Vec3 &vi, const Vec3 &vj, const Vec3 &wi,
@@ -105,7 +111,10 @@ struct ContactForce {
 // turn history into a normal component. As in LAMMPS's hooke/history, the normal part is removed without
 // rescaling: the normal turns by ~1e-4 rad per step, so the length lost is ~1e-8 of xi per step, and the
 // rescaling's division and root cost 15% of the contact loop.
-inline Vec3 project_history(const Vec3 &xi, const Vec3 &n) { return xi - dot(xi, n) * n; }
+inline Vec3 project_history(const Vec3 &xi, const Vec3 &n)
+{
+  return xi - dot(xi, n) * n;
+}
 
 // Eq. 2.3-2.8 for one contact over one time step dt. xi_t is the tangential displacement (history) of this
 // contact: zero when the contact forms, updated in place, and stored by the caller between steps.
@@ -141,8 +150,8 @@ inline ContactForce lsd_contact(const LsdModel &m, const ContactKinematics &k, d
 // returns the difference, added to body i's closing half kick: with it the restitution of eq. 3.3 is second
 // order in dt (docs/dem.md). overlap_* are max(delta, 0); damping_* the scalar dashpot forces along n (0 out of
 // contact); n is the current normal and eta_n = damp_n sqrt(m_eff).
-inline Vec3 damping_impulse_correction(double eta_n, double overlap_prev, double overlap_now, double damping_prev, double damping_now, double half_dt,
-                                       const Vec3 &n)
+inline Vec3 damping_impulse_correction(double eta_n, double overlap_prev, double overlap_now, double damping_prev, double damping_now,
+                                       double half_dt, const Vec3 &n)
 {
   return (-eta_n * (overlap_now - overlap_prev) - half_dt * (damping_prev + damping_now)) * n;
 }

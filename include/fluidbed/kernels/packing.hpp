@@ -24,7 +24,10 @@ struct Box {
 };
 
 // Uniform double in [0, 1) with 53 random bits.
-inline double uniform01(std::mt19937_64 &rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+inline double uniform01(std::mt19937_64 &rng)
+{
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
 
 // Diameters drawn uniformly by number between dmin and dmax (dmin == dmax gives a monodisperse bed).
 inline std::vector<double> draw_diameters(std::size_t n, double dmin, double dmax, std::mt19937_64 &rng)
@@ -37,7 +40,10 @@ inline std::vector<double> draw_diameters(std::size_t n, double dmin, double dma
 
 // Number of lattice cells of size s (>= the largest diameter) that fit in [lo, hi] along one axis; each sphere
 // sits in its own cell, jitter included.
-inline long lattice_count(double lo, double hi, double s) { return static_cast<long>(std::floor((hi - lo) / s * (1.0 + 1e-12))); }
+inline long lattice_count(double lo, double hi, double s)
+{
+  return static_cast<long>(std::floor((hi - lo) / s * (1.0 + 1e-12)));
+}
 
 // Simple-cubic lattice of cells of size `spacing`, filled from the bottom (y is vertical): x fastest, then z,
 // then y, centred horizontally. In 2D (dim == 2) z is fixed at the box centre. jitter in [0, 1) moves each sphere
@@ -49,12 +55,12 @@ inline std::vector<Vec3> lattice_fill(const Box &box, int dim, long n, double dm
   const long ny = lattice_count(box.lo.y, box.hi.y, spacing);
   const long nz = dim == 3 ? lattice_count(box.lo.z, box.hi.z, spacing) : 1;
   if (nx * ny * nz < n)
-    throw std::runtime_error("the insertion region holds " + std::to_string(nx * ny * nz) + " lattice sites, fewer than the " + std::to_string(n) +
-                             " particles requested");
+    throw std::runtime_error("the insertion region holds " + std::to_string(nx * ny * nz) + " lattice sites, fewer than the " +
+                             std::to_string(n) + " particles requested");
   // centre the lattice horizontally in the region
-  const double      x0 = 0.5 * (box.lo.x + box.hi.x) - 0.5 * (nx - 1) * spacing;
-  const double      z0 = dim == 3 ? 0.5 * (box.lo.z + box.hi.z) - 0.5 * (nz - 1) * spacing : 0.5 * (box.lo.z + box.hi.z);
-  const double      y0 = box.lo.y + 0.5 * spacing;
+  const double      x0  = 0.5 * (box.lo.x + box.hi.x) - 0.5 * (nx - 1) * spacing;
+  const double      z0  = dim == 3 ? 0.5 * (box.lo.z + box.hi.z) - 0.5 * (nz - 1) * spacing : 0.5 * (box.lo.z + box.hi.z);
+  const double      y0  = box.lo.y + 0.5 * spacing;
   const double      amp = 0.5 * jitter * (spacing - dmax);
   std::vector<Vec3> p;
   p.reserve(static_cast<std::size_t>(n));
@@ -79,15 +85,18 @@ inline std::vector<Vec3> random_fill(const Box &box, int dim, const std::vector<
 {
   double dmax = 0.0;
   for (double d : diam) dmax = std::max(dmax, d);
-  const double h = dmax + min_gap;
-  auto         key = [&](long i, long j, long k) { return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^ (static_cast<std::int64_t>(k) * 83492791); };
-  auto         cell = [&](double v, double lo) { return static_cast<long>(std::floor((v - lo) / h)); };
+  const double h   = dmax + min_gap;
+  auto         key = [&](long i, long j, long k) {
+    return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^
+           (static_cast<std::int64_t>(k) * 83492791);
+  };
+  auto cell = [&](double v, double lo) { return static_cast<long>(std::floor((v - lo) / h)); };
   std::unordered_multimap<std::int64_t, std::size_t> grid;
   grid.reserve(diam.size() * 2);
   std::vector<Vec3> p;
   p.reserve(diam.size());
   for (std::size_t n = 0; n < diam.size(); ++n) {
-    const double r = 0.5 * diam[n];
+    const double r      = 0.5 * diam[n];
     bool         placed = false;
     for (int t = 0; t < max_tries && !placed; ++t) {
       Vec3 q{box.lo.x + r + (box.hi.x - box.lo.x - 2 * r) * uniform01(rng), box.lo.y + r + (box.hi.y - box.lo.y - 2 * r) * uniform01(rng),

@@ -14,12 +14,27 @@ struct Vec3 {
   double x = 0.0, y = 0.0, z = 0.0;
 };
 
-inline Vec3   operator+(const Vec3 &a, const Vec3 &b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3   operator-(const Vec3 &a, const Vec3 &b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3   operator-(const Vec3 &a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3   operator*(double s, const Vec3 &a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Vec3   operator*(const Vec3 &a, double s) { return {s * a.x, s * a.y, s * a.z}; }
-inline Vec3  &operator+=(Vec3 &a, const Vec3 &b)
+inline Vec3 operator+(const Vec3 &a, const Vec3 &b)
+{
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(const Vec3 &a, const Vec3 &b)
+{
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator-(const Vec3 &a)
+{
+  return {-a.x, -a.y, -a.z};
+}
+inline Vec3 operator*(double s, const Vec3 &a)
+{
+  return {s * a.x, s * a.y, s * a.z};
+}
+inline Vec3 operator*(const Vec3 &a, double s)
+{
+  return {s * a.x, s * a.y, s * a.z};
+}
+inline Vec3 &operator+=(Vec3 &a, const Vec3 &b)
 {
   a.x += b.x;
   a.y += b.y;
@@ -33,9 +48,21 @@ inline Vec3 &operator-=(Vec3 &a, const Vec3 &b)
   a.z -= b.z;
   return a;
 }
-inline double dot(const Vec3 &a, const Vec3 &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3   cross(const Vec3 &a, const Vec3 &b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline double norm2(const Vec3 &a) { return dot(a, a); }
-inline double norm(const Vec3 &a) { return std::sqrt(dot(a, a)); }
+inline double dot(const Vec3 &a, const Vec3 &b)
+{
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline Vec3 cross(const Vec3 &a, const Vec3 &b)
+{
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm2(const Vec3 &a)
+{
+  return dot(a, a);
+}
+inline double norm(const Vec3 &a)
+{
+  return std::sqrt(dot(a, a));
+}
 
 } // namespace fluidbed::kernels

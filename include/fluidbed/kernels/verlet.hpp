@@ -13,15 +13,27 @@
 namespace fluidbed::kernels {
 
 // Moment of inertia of a solid sphere of mass m and diameter d: I = m d^2 / 10.
-inline double sphere_inertia(double m, double d) { return 0.1 * m * d * d; }
+inline double sphere_inertia(double m, double d)
+{
+  return 0.1 * m * d * d;
+}
 
 // v += (h / m) f  (h = dt/2 for a half kick)
-inline void kick(Vec3 &v, const Vec3 &f, double inv_m, double h) { v += (h * inv_m) * f; }
+inline void kick(Vec3 &v, const Vec3 &f, double inv_m, double h)
+{
+  v += (h * inv_m) * f;
+}
 
 // x += dt v
-inline void drift(Vec3 &x, const Vec3 &v, double dt) { x += dt * v; }
+inline void drift(Vec3 &x, const Vec3 &v, double dt)
+{
+  x += dt * v;
+}
 
 // Predicted end-of-step velocity from the half-step velocity and the previous step's force.
-inline Vec3 predicted_velocity(const Vec3 &v_half, const Vec3 &f_prev, double inv_m, double half_dt) { return v_half + (half_dt * inv_m) * f_prev; }
+inline Vec3 predicted_velocity(const Vec3 &v_half, const Vec3 &f_prev, double inv_m, double half_dt)
+{
+  return v_half + (half_dt * inv_m) * f_prev;
+}
 
 } // namespace fluidbed::kernels
