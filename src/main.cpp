@@ -1,19 +1,22 @@
 // fluidbed: CFD-DEM for fluidized and spouted beds, driven by PETSc options. Run with -help for every option.
 #include "fluidbed/simulation.hpp"
 
-static const char help[] = "fluidbed: soft-sphere DEM (and, with the gas on, CFD-DEM with a two-grid coupling) for fluidized and spouted beds.\n"
-                           "A scene is a set of PETSc options: -options_file examples/<scene>.opts, the command line, or PETSC_OPTIONS.\n"
-                           "Without options it runs a small default scene.\n\n";
+static const char help[] =
+  "fluidbed: soft-sphere DEM (and, with the gas on, CFD-DEM with a two-grid coupling) for fluidized and spouted beds.\n"
+  "A scene is a set of PETSc options: -options_file examples/<scene>.opts, the command line, or PETSC_OPTIONS.\n"
+  "Without options it runs a small default scene.\n\n";
 
 namespace {
 
 // Errors caused by the input (out-of-range or inconsistent options) get one clear line instead of a traceback.
 bool IsInputError(PetscErrorCode n)
 {
-  return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_USER || n == PETSC_ERR_FILE_OPEN;
+  return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_USER ||
+         n == PETSC_ERR_FILE_OPEN;
 }
 
-PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p,
+                                 const char *mess, void *ctx)
 {
   if (p == PETSC_ERROR_INITIAL && IsInputError(n)) {
     PetscMPIInt rank = 0;

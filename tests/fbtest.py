@@ -19,9 +19,10 @@ def example(path):
     return os.path.join(SRC, "examples", path)
 
 
-def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, timeout=1200):
-    """Runs fluidbed, returns (output directory, completed process). Fails the test on an unexpected status."""
-    if os.path.isdir(outdir):
+def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, timeout=1200, clean=True):
+    """Runs fluidbed, returns (output directory, completed process). Fails the test on an unexpected status.
+    The output directory is emptied first unless clean is False (a restart continuing in place)."""
+    if clean and os.path.isdir(outdir):
         shutil.rmtree(outdir)
     cmd = [EXE]
     if options_file:

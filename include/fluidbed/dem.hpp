@@ -22,14 +22,14 @@ namespace fluidbed {
 
 // Contact parameters (-dem_*, -wall_*) and the time step they imply.
 struct DemParams {
-  PetscReal kn = 800.0, kt = -1.0, e = 0.9, mu = 0.3;                    // particle-particle; kt < 0: kt = kn
+  PetscReal kn = 800.0, kt = -1.0, e = 0.9, mu = 0.3;                      // particle-particle; kt < 0: kt = kn
   PetscReal wall_kn = -1.0, wall_kt = -1.0, wall_e = -1.0, wall_mu = -1.0; // < 0: same as the particles
-  PetscReal dt_factor = 0.1;                                              // dt = dt_factor * t_cr
-  PetscReal skin      = 0.1;                                              // Verlet skin in largest diameters
-  PetscInt  max_contacts = 16;                                            // history slots per particle
-  PetscBool pseudo2d     = PETSC_FALSE;                                   // 3D: motion confined to the x-y plane
+  PetscReal dt_factor    = 0.1;                                            // dt = dt_factor * t_cr
+  PetscReal skin         = 0.1;                                            // Verlet skin in largest diameters
+  PetscInt  max_contacts = 16;                                             // history slots per particle
+  PetscBool pseudo2d     = PETSC_FALSE;                                    // 3D: motion confined to the x-y plane
 
-  kernels::LsdModel pp, pw;                 // particle-particle and particle-wall contact models
+  kernels::LsdModel pp, pw;                  // particle-particle and particle-wall contact models
   PetscReal         t_cr = 0, t_cr_wall = 0; // contact durations of the lightest pair / particle on a wall, s
   PetscReal         dt = 0;                  // time step, s
 };
@@ -93,35 +93,37 @@ struct Dem {
   PhaseLog            *log   = nullptr;
   DM                   swarm = nullptr;
 
-  PetscReal                 halo = 0;     // ghost layer width, 2 r_max + skin (m)
-  PetscReal                 skin = 0;     // m
-  PetscReal                 body_force_factor = 1.0; // gravity scale: 1 - rho_g / rho_p with buoyancy (Model B)
-  std::vector<ContactBody>  bodies;
-  std::vector<PetscInt64>   body_id;
-  std::vector<PetscReal>    x_ref;   // positions at the last rebuild, 3 per local particle
-  std::vector<PetscReal>    impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
-  std::vector<unsigned char> wall_mask; // bit f set: the particle holds a history slot for wall f
-  NeighbourList             nl;
+  PetscReal                        halo              = 0;   // ghost layer width, 2 r_max + skin (m)
+  PetscReal                        skin              = 0;   // m
+  PetscReal                        body_force_factor = 1.0; // gravity scale: 1 - rho_g / rho_p with buoyancy (Model B)
+  std::vector<ContactBody>         bodies;
+  std::vector<PetscInt64>          body_id;
+  std::vector<PetscReal>           x_ref;     // positions at the last rebuild, 3 per local particle
+  std::vector<PetscReal>           impulse;   // dashpot impulse corrections of this step, 3 per local particle (N s)
+  std::vector<unsigned char>       wall_mask; // bit f set: the particle holds a history slot for wall f
+  NeighbourList                    nl;
   std::vector<ContactContribution> contributions;       // per neighbour entry, this step
   std::vector<unsigned char>       contribution_active; // the entry's contribution is set (the pair touched)
-  GhostExchange             ghosts;
-  DemStats                  stats;
-  DemExternalForce          external = nullptr;
-  void                     *external_ctx = nullptr;
+  GhostExchange                    ghosts;
+  DemStats                         stats;
+  DemExternalForce                 external     = nullptr;
+  void                            *external_ctx = nullptr;
 };
 
-PetscErrorCode DemCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, PhaseLog *log, Dem **dem);
+PetscErrorCode DemCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, PhaseLog *log,
+                         Dem **dem);
 // Creates the swarm (ParticlesCreate) with the contact history sized by -dem_max_contacts.
 PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm);
-// Initial migration, ghosts, neighbour lists and forces; call after insertion.
-PetscErrorCode DemSetUp(Dem *dem, DM swarm);
+// Initial migration, ghosts, neighbour lists and forces; call after insertion. After a restart the forces of the
+// checkpoint are kept (recomputing them would advance the contact histories), so the run continues bit for bit.
+PetscErrorCode DemSetUp(Dem *dem, DM swarm, PetscBool restart);
 // One velocity-Verlet step of length par.dt.
 PetscErrorCode DemStep(Dem *dem);
 PetscErrorCode DemDestroy(Dem **dem);
 
 // Pieces of the step (src/particles, src/contact), exposed for tests and the coupled solver.
 PetscErrorCode DemMigrate(Dem *dem);
-PetscErrorCode DemSortLocal(Dem *dem); // orders the local particles' storage by neighbour bin
+PetscErrorCode DemSortLocal(Dem *dem);                                         // orders the local particles' storage by neighbour bin
 PetscErrorCode ParticlesPermute(DM swarm, const std::vector<PetscInt> &order); // new[k] = old[order[k]], every field
 PetscErrorCode DemPackBodies(Dem *dem);
 PetscErrorCode DemGhostsBuild(Dem *dem);

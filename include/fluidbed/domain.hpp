@@ -13,7 +13,7 @@ enum Face { FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI, FACE_COU
 extern const char *const FaceNames[FACE_COUNT];
 
 struct Domain {
-  PetscInt  dim = 3;
+  PetscInt dim = 3;
   // Defaults: the default scene's box (20 x 40 x 20 mm).
   PetscReal lo[3]{0, 0, 0};
   PetscReal hi[3]{0.02, 0.04, 0.02};

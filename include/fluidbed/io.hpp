@@ -13,12 +13,12 @@ namespace fluidbed {
 
 // Global sums over the particles (monitor.csv columns).
 struct ParticleTotals {
-  PetscInt64 count = 0;
+  PetscInt64 count    = 0;
   PetscReal  ke_trans = 0, ke_rot = 0, pe_grav = 0; // J
-  PetscReal  momentum[3]{0, 0, 0};                    // kg m/s
-  PetscReal  max_speed = 0;                           // m/s
+  PetscReal  momentum[3]{0, 0, 0};                  // kg m/s
+  PetscReal  max_speed             = 0;             // m/s
   PetscReal  contacts_per_particle = 0;
-  PetscReal  max_overlap_rel = 0;                     // largest overlap / diameter since the previous row
+  PetscReal  max_overlap_rel       = 0; // largest overlap / diameter since the previous row
 };
 PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t);
 
@@ -29,7 +29,8 @@ struct Monitor {
   PetscReal               interval = 0, next = 0;
 };
 
-PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, Monitor *m);
+// append: continue the files of a restarted run instead of starting them anew.
+PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, Monitor *m);
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
 PetscErrorCode MonitorDestroy(Monitor *m);

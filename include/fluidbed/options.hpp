@@ -15,19 +15,28 @@ struct RealRange {
   bool      lo_open = false, hi_open = false;
 };
 
-inline RealRange Positive(PetscReal hi = PETSC_MAX_REAL) { return {0.0, hi, true, false}; }
-inline RealRange NonNegative(PetscReal hi = PETSC_MAX_REAL) { return {0.0, hi, false, false}; }
-inline RealRange Closed(PetscReal lo, PetscReal hi) { return {lo, hi, false, false}; }
+inline RealRange Positive(PetscReal hi = PETSC_MAX_REAL)
+{
+  return {0.0, hi, true, false};
+}
+inline RealRange NonNegative(PetscReal hi = PETSC_MAX_REAL)
+{
+  return {0.0, hi, false, false};
+}
+inline RealRange Closed(PetscReal lo, PetscReal hi)
+{
+  return {lo, hi, false, false};
+}
 
 // Real option -<prefix><name>: "text [unit], range ..." in -help; error PETSC_ERR_ARG_OUTOFRANGE outside range.
 PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[], RealRange range,
                            PetscReal *value, PetscBool *set);
 // Integer option with an inclusive range [lo, hi].
-PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value,
-                          PetscBool *set);
+PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], PetscInt lo, PetscInt hi,
+                          PetscInt *value, PetscBool *set);
 // Array of exactly n reals (or up to n when exact is false: *n returns the count read), each within range.
-PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[], RealRange range,
-                                PetscReal values[], PetscInt *n, PetscBool exact, PetscBool *set);
+PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[],
+                                RealRange range, PetscReal values[], PetscInt *n, PetscBool exact, PetscBool *set);
 
 // The option name with the block's prefix, e.g. "-dem_kn", for messages.
 const char *OptionName(PetscOptionItems *PetscOptionsObject, const char name[]);

@@ -39,7 +39,10 @@ constexpr const char *contact_hist = "contact_hist"; // K histories of kHistoryS
 constexpr PetscInt64 kFreeSlot      = -1;
 constexpr PetscInt   kHistoryStride = 5;
 // Walls are keyed -2 - face so that they sort before every particle id.
-inline PetscInt64 WallKey(int face) { return -2 - face; }
+inline PetscInt64 WallKey(int face)
+{
+  return -2 - face;
+}
 
 // Creates the PIC swarm on the particle grid's vertex DMDA with the fields above and no particles.
 PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, PetscInt max_contacts, DM *swarm);
@@ -60,9 +63,10 @@ PetscErrorCode ParticlesGlobalCount(DM swarm, PetscInt64 *n);
 
 // Options -insert_*: lattice, random, list or file; by count or settled bed height; seeded.
 struct InsertionReport {
-  PetscInt64 count = 0;
+  PetscInt64 count                 = 0;
   PetscReal  solid_fraction_region = 0.0; // solid volume / region volume at insertion
 };
-PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, DM swarm, InsertionReport *report);
+PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, DM swarm,
+                               InsertionReport *report);
 
 } // namespace fluidbed

@@ -6,6 +6,7 @@
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
+#include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
@@ -13,11 +14,20 @@
 namespace fluidbed {
 
 struct RunControl {
-  PetscReal t_final           = 0.3;  // s (the default scene: a 4000-particle pour that settles)
-  PetscInt  max_steps         = -1;   // < 0: no limit
-  PetscReal progress_interval = 10.0; // wall-clock s between progress lines
-  PetscBool write_particles   = PETSC_TRUE;
+  PetscReal t_final                        = 0.3;  // s (the default scene: a 4000-particle pour that settles)
+  PetscInt  max_steps                      = -1;   // < 0: no limit
+  PetscReal progress_interval              = 10.0; // wall-clock s between progress lines
+  PetscBool write_particles                = PETSC_TRUE;
   char      output_dir[PETSC_MAX_PATH_LEN] = "output";
+};
+
+// HDF5 snapshots every -output_interval, checkpoints every -checkpoint_interval, -restart FILE.
+struct OutputSchedule {
+  PetscReal                   interval = 0, next = 0; // snapshots, s (0: none)
+  PetscReal                   checkpoint_interval = 0, next_checkpoint = 0;
+  char                        checkpoint_file[PETSC_MAX_PATH_LEN] = "";
+  char                        restart[PETSC_MAX_PATH_LEN]         = "";
+  std::vector<SnapshotRecord> series;
 };
 
 struct Simulation {
@@ -28,11 +38,12 @@ struct Simulation {
   PhaseLog        log;
   RunControl      run;
   Monitor         monitor;
+  OutputSchedule  output;
   InsertionReport inserted;
-  Dem            *dem   = nullptr;
-  DM              swarm = nullptr;
-  PetscInt64      step  = 0;
-  PetscReal       time  = 0.0;
+  Dem            *dem        = nullptr;
+  DM              swarm      = nullptr;
+  PetscInt64      step       = 0;
+  PetscReal       time       = 0.0;
   double          wall_setup = 0.0, wall_run = 0.0;
 };
 
@@ -41,5 +52,13 @@ PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);
 PetscErrorCode SimulationSetUp(Simulation *sim);
 PetscErrorCode SimulationRun(Simulation *sim);
 PetscErrorCode SimulationDestroy(Simulation **sim);
+
+// Snapshots, checkpoints and restart (src/io/checkpoint.cpp).
+PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
+PetscErrorCode SimulationWriteSnapshot(Simulation *sim);
+PetscErrorCode SimulationWriteCheckpoint(Simulation *sim);
+PetscErrorCode SimulationReadCheckpoint(Simulation *sim);
+// Writes what is due at the current time (snapshot, checkpoint); `last` forces a final checkpoint.
+PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last);
 
 } // namespace fluidbed

@@ -62,23 +62,24 @@ PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char name
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value,
-                          PetscBool *set)
+PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], PetscInt lo, PetscInt hi,
+                          PetscInt *value, PetscBool *set)
 {
-  const std::string rs   = "[" + std::to_string((long long)lo) + ", " + (hi == PETSC_MAX_INT ? std::string("inf") : std::to_string((long long)hi)) + "]";
+  const std::string rs =
+    "[" + std::to_string((long long)lo) + ", " + (hi == PETSC_MAX_INT ? std::string("inf") : std::to_string((long long)hi)) + "]";
   const std::string help = std::string(text) + ", range " + rs;
   PetscBool         flg  = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsInt_Private(PetscOptionsObject, name, help.c_str(), "", *value, value, &flg, PETSC_MIN_INT, PETSC_MAX_INT));
-  PetscCheck(*value >= lo && *value <= hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s = %" PetscInt_FMT " is out of range: allowed %s",
-             OptionName(PetscOptionsObject, name), *value, rs.c_str());
+  PetscCheck(*value >= lo && *value <= hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s = %" PetscInt_FMT " is out of range: allowed %s", OptionName(PetscOptionsObject, name), *value, rs.c_str());
   if (set) *set = flg;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[], RealRange range,
-                                PetscReal values[], PetscInt *n, PetscBool exact, PetscBool *set)
+PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[],
+                                RealRange range, PetscReal values[], PetscInt *n, PetscBool exact, PetscBool *set)
 {
   const std::string rs   = FormatRange(range);
   const std::string help = HelpText(text, unit, rs);
@@ -88,11 +89,12 @@ PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsRealArray_Private(PetscOptionsObject, name, help.c_str(), "", values, n, &flg));
   if (!flg) *n = nmax;
-  PetscCheck(!flg || !exact || *n == nmax, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s needs %" PetscInt_FMT " comma-separated values, got %" PetscInt_FMT,
-             OptionName(PetscOptionsObject, name), nmax, *n);
+  PetscCheck(!flg || !exact || *n == nmax, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
+             "%s needs %" PetscInt_FMT " comma-separated values, got %" PetscInt_FMT, OptionName(PetscOptionsObject, name), nmax, *n);
   for (PetscInt i = 0; i < *n; ++i)
-    PetscCheck(InRange(range, values[i]), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s entry %" PetscInt_FMT " = %.6g is out of range: allowed %s%s%s",
-               OptionName(PetscOptionsObject, name), i, (double)values[i], rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");
+    PetscCheck(InRange(range, values[i]), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "%s entry %" PetscInt_FMT " = %.6g is out of range: allowed %s%s%s", OptionName(PetscOptionsObject, name), i,
+               (double)values[i], rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");
   if (set) *set = flg;
   PetscFunctionReturn(0);
 }

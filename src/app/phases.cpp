@@ -2,8 +2,10 @@
 
 namespace fluidbed {
 
-const char *const PhaseNames[PHASE_COUNT] = {"Neighbour search", "Contact", "Integrate", "Migrate", "Ghosts", "Fluid", "Pressure", "Coupling", "Output"};
-const char *const PhaseKeys[PHASE_COUNT]  = {"neighbour", "contact", "integrate", "migrate", "ghosts", "fluid", "pressure", "coupling", "output"};
+const char *const PhaseNames[PHASE_COUNT] = {"Neighbour search", "Contact",  "Integrate", "Migrate", "Ghosts", "Fluid",
+                                             "Pressure",         "Coupling", "Output"};
+const char *const PhaseKeys[PHASE_COUNT]  = {"neighbour", "contact",  "integrate", "migrate", "ghosts",
+                                             "fluid",     "pressure", "coupling",  "output"};
 
 PetscErrorCode PhaseLogRegister(PhaseLog *log)
 {

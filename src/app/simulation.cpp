@@ -12,12 +12,14 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "", "Run control", "Run");
   PetscCall(OptionsReal(PetscOptionsObject, "-t_final", "Simulated time to run", "s", NonNegative(1e6), &r->t_final, NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(), &r->progress_interval,
-                        NULL));
-  PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir, r->output_dir,
-                               sizeof(r->output_dir), NULL));
-  PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles, &r->write_particles, NULL));
+  PetscCall(
+    OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(),
+                        &r->progress_interval, NULL));
+  PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir,
+                               r->output_dir, sizeof(r->output_dir), NULL));
+  PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles,
+                             &r->write_particles, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
@@ -81,55 +83,69 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscFunctionBeginUser;
   PetscCall(PhaseLogRegister(&sim->log));
   PetscCall(RunControlSetFromOptions(sim->comm, &sim->run));
+  PetscCall(OutputScheduleSetFromOptions(sim));
+  const PetscBool restart = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(DomainSetFromOptions(sim->comm, &sim->domain));
   PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
   PetscCall(GridsCreate(sim->comm, sim->domain, sim->props.d_max, &sim->grids));
   PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
   PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));
-  PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
-  PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, &sim->monitor));
+  PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
+  if (restart) PetscCall(SimulationReadCheckpoint(sim));
+  else PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
-                                   (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
-                                   (double)sim->inserted.solid_fraction_region));
+  PetscCall(PetscViewerASCIIPrintf(
+    viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
+    (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
+    (double)sim->inserted.solid_fraction_region));
   PetscCall(DemParamsView(sim->dem->par, viewer));
+  if (restart)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Restart from %s at t = %.6g s, step %lld\n", sim->output.restart, (double)sim->time,
+                                     (long long)sim->step));
 
-  PetscCall(DemSetUp(sim->dem, sim->swarm));
+  PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
   sim->wall_setup = MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SimulationRun(Simulation *sim)
 {
-  Dem           *dem = sim->dem;
-  const PetscReal dt = dem->par.dt;
-  const PetscInt64 nsteps_time = (PetscInt64)PetscCeilReal(sim->run.t_final / dt - 1e-9);
-  const PetscInt64 nsteps = sim->run.max_steps >= 0 ? PetscMin(nsteps_time, (PetscInt64)sim->run.max_steps) : nsteps_time;
+  Dem            *dem = sim->dem;
+  const PetscReal dt  = dem->par.dt;
+  // Steps count from the start of the simulated time (t = step dt), so that a restarted run reproduces the times
+  // of the uninterrupted one; -max_steps limits the steps of this run.
+  const PetscInt64 step_final = (PetscInt64)PetscCeilReal(sim->run.t_final / dt - 1e-9);
+  const PetscInt64 nsteps =
+    PetscMax(0, sim->run.max_steps >= 0 ? PetscMin(step_final - sim->step, (PetscInt64)sim->run.max_steps) : step_final - sim->step);
+  const PetscBool restarted = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
   ParticleTotals  tot;
-  const double    t0 = MPI_Wtime();
+  const double    t0            = MPI_Wtime();
   double          last_progress = t0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)(nsteps * dt)));
+  PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)((sim->step + nsteps) * dt)));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
   PetscCall(ComputeParticleTotals(dem, &tot));
-  PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
-  PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+  if (!restarted) { // a restart continues the files at the checkpoint's row
+    PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
+    PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+    sim->monitor.next = sim->time + sim->monitor.interval;
+    PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
+  }
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
-  sim->monitor.next = sim->time + sim->monitor.interval;
 
   const PetscInt64 step0 = sim->step;
-  const PetscReal  time0 = sim->time;
   while (sim->step - step0 < nsteps) {
     PetscCall(DemStep(dem));
     sim->step++;
-    sim->time = time0 + (PetscReal)(sim->step - step0) * dt;
+    sim->time = (PetscReal)sim->step * dt;
 
     PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
     PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+    PetscCall(SimulationOutputStep(sim, sim->step - step0 == nsteps ? PETSC_TRUE : PETSC_FALSE));
     if (sim->time >= sim->monitor.next - 0.5 * dt || sim->step - step0 == nsteps) {
       PetscCall(ComputeParticleTotals(dem, &tot));
       PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
@@ -143,8 +159,8 @@ PetscErrorCode SimulationRun(Simulation *sim)
       PetscCallMPI(MPI_Bcast(&now, 1, MPI_DOUBLE, 0, sim->comm));
       if (now - last_progress >= sim->run.progress_interval) {
         const double elapsed = now - t0, done = (double)(sim->step - step0) / (double)nsteps;
-        PetscCall(PetscPrintf(sim->comm, "  t = %.5g s (%4.1f%%), step %lld, %.3g steps/s, %s elapsed, about %s left\n", (double)sim->time, 100.0 * done,
-                              (long long)sim->step, (double)(sim->step - step0) / elapsed, Duration(elapsed).c_str(),
+        PetscCall(PetscPrintf(sim->comm, "  t = %.5g s (%4.1f%%), step %lld, %.3g steps/s, %s elapsed, about %s left\n", (double)sim->time,
+                              100.0 * done, (long long)sim->step, (double)(sim->step - step0) / elapsed, Duration(elapsed).c_str(),
                               Duration(elapsed * (1.0 - done) / PetscMax(done, 1e-12)).c_str()));
         last_progress = now;
       }
@@ -158,9 +174,10 @@ PetscErrorCode SimulationRun(Simulation *sim)
   PetscCall(WriteSummary(sim, tot));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(PetscPrintf(sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-                        (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
-                        sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
+  PetscCall(PetscPrintf(
+    sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
+    (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+    sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
   PetscFunctionReturn(0);
 }
 

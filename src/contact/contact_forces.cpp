@@ -16,7 +16,10 @@ struct SlotHistory {
   PetscReal overlap = 0, damping = 0;
 };
 
-inline PetscReal *SlotPtr(const ParticleArrays &p, PetscInt i, PetscInt s) { return &p.chist[kHistoryStride * (p.K * i + s)]; }
+inline PetscReal *SlotPtr(const ParticleArrays &p, PetscInt i, PetscInt s)
+{
+  return &p.chist[kHistoryStride * (p.K * i + s)];
+}
 inline SlotHistory LoadSlot(const ParticleArrays &p, PetscInt i, PetscInt s)
 {
   const PetscReal *q = SlotPtr(p, i, s);
@@ -43,8 +46,8 @@ PetscErrorCode AllocSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key, Pe
       *slot = s;
       PetscFunctionReturn(0);
     }
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "particle %lld has more than %d simultaneous contacts: raise -dem_max_contacts", (long long)p.id[i],
-          (int)p.K);
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "particle %lld has more than %d simultaneous contacts: raise -dem_max_contacts",
+          (long long)p.id[i], (int)p.K);
 }
 
 PetscInt FindSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key)
@@ -63,11 +66,18 @@ struct WallFace {
 // What one contact adds to body i: force, n x f_t (the torque on i is r_i n x f_t, on j r_j n x f_t), and the
 // dashpot impulse correction. Seen from j the contribution is Mirror(c), bit for bit what j would compute.
 using Contribution = ContactContribution;
-inline Contribution Mirror(const Contribution &c) { return {-c.force, c.n_cross_ft, -c.impulse}; }
-inline SlotHistory  Mirror(const SlotHistory &h) { return {-h.xi, h.overlap, h.damping}; }
+inline Contribution Mirror(const Contribution &c)
+{
+  return {-c.force, c.n_cross_ft, -c.impulse};
+}
+inline SlotHistory Mirror(const SlotHistory &h)
+{
+  return {-h.xi, h.overlap, h.damping};
+}
 
 // Eq. 2.3-2.10 for one contact in contact; updates the slot history h.
-[[gnu::always_inline]] inline Contribution Evaluate(const kernels::LsdModel &m, const kernels::ContactKinematics &kin, PetscReal dt, SlotHistory &h)
+[[gnu::always_inline]] inline Contribution Evaluate(const kernels::LsdModel &m, const kernels::ContactKinematics &kin, PetscReal dt,
+                                                    SlotHistory &h)
 {
   const kernels::ContactForce cf = kernels::lsd_contact(m, kin, dt, h.xi);
   const Vec3 J = kernels::damping_impulse_correction(cf.eta_n, h.overlap, kin.overlap, h.damping, cf.damping_n, 0.5 * dt, kin.n);
@@ -184,9 +194,10 @@ PetscErrorCode DemContactForces(Dem *dem)
       Contribution    c;
       if (dist2 < rsum * rsum) {
         if (ne.slot < 0) PetscCall(AllocSlot(p, i, dem->body_id[(std::size_t)j], &ne.slot));
-        const kernels::ContactKinematics kin = kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, ne.sqrt_meff);
-        SlotHistory                      h   = LoadSlot(p, i, ne.slot);
-        c                                    = Evaluate(par.pp, kin, dt, h);
+        const kernels::ContactKinematics kin =
+          kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, ne.sqrt_meff);
+        SlotHistory h = LoadSlot(p, i, ne.slot);
+        c             = Evaluate(par.pp, kin, dt, h);
         StoreSlot(p, i, ne.slot, h);
         contacts += j_local ? 2 : 1;
         max_rel = PetscMax(max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));

@@ -9,24 +9,31 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "dem_", "DEM: linear spring-dashpot contacts (seed eq. 2.3-2.10)", "DEM");
   PetscCall(OptionsReal(PetscOptionsObject, "-kn", "Normal spring stiffness k_n", "N/m", Positive(1e12), &p->kn, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-kt", "Tangential spring stiffness k_t (negative: equal to k_n, as in the seed)", "N/m", Closed(-1.0, 1e12), &p->kt,
-                        NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-e", "Coefficient of normal restitution e (sets the damping, eq. 3.3)", "", RealRange{0.0, 1.0, true, false}, &p->e,
-                        NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Particle-particle friction coefficient (Coulomb slider, eq. 2.8)", "", Closed(0.0, 10.0), &p->mu, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-dt_factor", "Time step as a fraction of the contact duration t_cr (eq. 3.2); above 1 contacts are not resolved",
-                        "", RealRange{0.0, 10.0, true, false}, &p->dt_factor, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it", "d", Closed(0.01, 2.0), &p->skin,
-                        NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-max_contacts", "Contact history slots per particle (walls included)", 4, 128, &p->max_contacts, NULL));
-  PetscCall(PetscOptionsBool("-pseudo2d", "3D only: confine motion to the x-y plane (one-particle-deep beds)", "", p->pseudo2d, &p->pseudo2d, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-kt", "Tangential spring stiffness k_t (negative: equal to k_n, as in the seed)", "N/m",
+                        Closed(-1.0, 1e12), &p->kt, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-e", "Coefficient of normal restitution e (sets the damping, eq. 3.3)", "",
+                        RealRange{0.0, 1.0, true, false}, &p->e, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Particle-particle friction coefficient (Coulomb slider, eq. 2.8)", "",
+                        Closed(0.0, 10.0), &p->mu, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt_factor",
+                        "Time step as a fraction of the contact duration t_cr (eq. 3.2); above 1 contacts are not resolved", "",
+                        RealRange{0.0, 10.0, true, false}, &p->dt_factor, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it", "d",
+                        Closed(0.01, 2.0), &p->skin, NULL));
+  PetscCall(
+    OptionsInt(PetscOptionsObject, "-max_contacts", "Contact history slots per particle (walls included)", 4, 128, &p->max_contacts, NULL));
+  PetscCall(PetscOptionsBool("-pseudo2d", "3D only: confine motion to the x-y plane (one-particle-deep beds)", "", p->pseudo2d,
+                             &p->pseudo2d, NULL));
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, "wall_", "DEM: particle-wall contacts (walls are particles of infinite diameter)", "DEM");
-  PetscCall(OptionsReal(PetscOptionsObject, "-kn", "Wall normal stiffness (negative: -dem_kn)", "N/m", Closed(-1.0, 1e12), &p->wall_kn, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-kt", "Wall tangential stiffness (negative: -dem_kt)", "N/m", Closed(-1.0, 1e12), &p->wall_kt, NULL));
+  PetscCall(
+    OptionsReal(PetscOptionsObject, "-kn", "Wall normal stiffness (negative: -dem_kn)", "N/m", Closed(-1.0, 1e12), &p->wall_kn, NULL));
+  PetscCall(
+    OptionsReal(PetscOptionsObject, "-kt", "Wall tangential stiffness (negative: -dem_kt)", "N/m", Closed(-1.0, 1e12), &p->wall_kt, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-e", "Wall restitution (negative: -dem_e)", "", Closed(-1.0, 1.0), &p->wall_e, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Wall friction coefficient (negative: -dem_mu)", "", Closed(-1.0, 10.0), &p->wall_mu, NULL));
+  PetscCall(
+    OptionsReal(PetscOptionsObject, "-mu", "Wall friction coefficient (negative: -dem_mu)", "", Closed(-1.0, 10.0), &p->wall_mu, NULL));
   PetscOptionsEnd();
 
   if (p->kt < 0) p->kt = p->kn;
@@ -34,29 +41,32 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   if (p->wall_kt < 0) p->wall_kt = p->kt;
   if (p->wall_e < 0) p->wall_e = p->e;
   if (p->wall_mu < 0) p->wall_mu = p->mu;
-  PetscCheck(p->wall_kn > 0 && p->wall_e > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-wall_kn and -wall_e must be positive (got %.6g, %.6g)", (double)p->wall_kn,
-             (double)p->wall_e);
-  PetscCheck(!(p->pseudo2d && dom.dim == 2), comm, PETSC_ERR_USER_INPUT, "-dem_pseudo2d is for 3D domains; -domain_dim 2 is planar already");
+  PetscCheck(p->wall_kn > 0 && p->wall_e > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-wall_kn and -wall_e must be positive (got %.6g, %.6g)",
+             (double)p->wall_kn, (double)p->wall_e);
+  PetscCheck(!(p->pseudo2d && dom.dim == 2), comm, PETSC_ERR_USER_INPUT,
+             "-dem_pseudo2d is for 3D domains; -domain_dim 2 is planar already");
 
-  p->pp               = kernels::lsd_model(p->kn, p->kt, p->e, p->mu);
-  p->pw               = kernels::lsd_model(p->wall_kn, p->wall_kt, p->wall_e, p->wall_mu);
-  const PetscReal m   = props.Mass(props.d_min); // the lightest particles have the shortest contacts
-  p->t_cr             = kernels::critical_time(p->kn, p->e, 0.5 * m);
-  p->t_cr_wall        = kernels::critical_time(p->wall_kn, p->wall_e, m);
-  p->dt               = p->dt_factor * PetscMin(p->t_cr, p->t_cr_wall);
+  p->pp             = kernels::lsd_model(p->kn, p->kt, p->e, p->mu);
+  p->pw             = kernels::lsd_model(p->wall_kn, p->wall_kt, p->wall_e, p->wall_mu);
+  const PetscReal m = props.Mass(props.d_min); // the lightest particles have the shortest contacts
+  p->t_cr           = kernels::critical_time(p->kn, p->e, 0.5 * m);
+  p->t_cr_wall      = kernels::critical_time(p->wall_kn, p->wall_e, m);
+  p->dt             = p->dt_factor * PetscMin(p->t_cr, p->t_cr_wall);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DemParamsView(const DemParams &p, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: k_n %.6g N/m, k_t %.6g N/m, e %.6g, mu %.6g; walls k_n %.6g N/m, e %.6g, mu %.6g%s\n", (double)p.kn, (double)p.kt, (double)p.e,
-                                   (double)p.mu, (double)p.wall_kn, (double)p.wall_e, (double)p.wall_mu, p.pseudo2d ? "; pseudo-2D motion" : ""));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: t_cr %.4e s (particle pair), %.4e s (wall); dt = %.6g t_cr = %.4e s\n", (double)p.t_cr, (double)p.t_cr_wall,
-                                   (double)p.dt_factor, (double)p.dt));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: k_n %.6g N/m, k_t %.6g N/m, e %.6g, mu %.6g; walls k_n %.6g N/m, e %.6g, mu %.6g%s\n",
+                                   (double)p.kn, (double)p.kt, (double)p.e, (double)p.mu, (double)p.wall_kn, (double)p.wall_e,
+                                   (double)p.wall_mu, p.pseudo2d ? "; pseudo-2D motion" : ""));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: t_cr %.4e s (particle pair), %.4e s (wall); dt = %.6g t_cr = %.4e s\n", (double)p.t_cr,
+                                   (double)p.t_cr_wall, (double)p.dt_factor, (double)p.dt));
   if (p.dt_factor > 1.0)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "WARNING: -dem_dt_factor %.6g > 1: the time step exceeds the contact duration; contacts are not resolved\n",
-                                     (double)p.dt_factor));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "WARNING: -dem_dt_factor %.6g > 1: the time step exceeds the contact duration; contacts are not resolved\n",
+      (double)p.dt_factor));
   PetscFunctionReturn(0);
 }
 

@@ -38,10 +38,10 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   PetscInt        nb[3];
   for (int a = 0; a < 3; ++a) {
     if (a < dim) {
-      origin[a]        = pg.sub_lo[a] - dem->halo - skin;
+      origin[a]         = pg.sub_lo[a] - dem->halo - skin;
       const PetscReal L = (pg.sub_hi[a] - pg.sub_lo[a]) + 2.0 * (dem->halo + skin);
-      nb[a]            = PetscMax(1, (PetscInt)std::floor(L / bin_min));
-      width[a]         = L / nb[a];
+      nb[a]             = PetscMax(1, (PetscInt)std::floor(L / bin_min));
+      width[a]          = L / nb[a];
     } else {
       origin[a] = -1.0;
       nb[a]     = 1;
@@ -131,7 +131,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       for (PetscInt s = 0; s < K; ++s)
         if (key[s] == pid) {
           nl.entries[(std::size_t)e].slot = s;
-          used[(std::size_t)s]    = 1;
+          used[(std::size_t)s]            = 1;
           break;
         }
     }

@@ -36,12 +36,14 @@ void HorizontalProcessGrid(PetscInt dim, const PetscInt n[3], PetscMPIInt size, 
   if (best < 0) procs[0] = procs[1] = procs[2] = PETSC_DECIDE;
 }
 
-PetscErrorCode CreateDMDA(MPI_Comm comm, PetscInt dim, const DMBoundaryType bt[3], DMDAStencilType st, const PetscInt N[3], const PetscInt procs[3],
-                          const PetscInt *const own[3], PetscInt dof, PetscInt sw, DM *da)
+PetscErrorCode CreateDMDA(MPI_Comm comm, PetscInt dim, const DMBoundaryType bt[3], DMDAStencilType st, const PetscInt N[3],
+                          const PetscInt procs[3], const PetscInt *const own[3], PetscInt dof, PetscInt sw, DM *da)
 {
   PetscFunctionBeginUser;
   if (dim == 2) PetscCall(DMDACreate2d(comm, bt[0], bt[1], st, N[0], N[1], procs[0], procs[1], dof, sw, own[0], own[1], da));
-  else PetscCall(DMDACreate3d(comm, bt[0], bt[1], bt[2], st, N[0], N[1], N[2], procs[0], procs[1], procs[2], dof, sw, own[0], own[1], own[2], da));
+  else
+    PetscCall(
+      DMDACreate3d(comm, bt[0], bt[1], bt[2], st, N[0], N[1], N[2], procs[0], procs[1], procs[2], dof, sw, own[0], own[1], own[2], da));
   PetscCall(DMSetUp(*da));
   PetscFunctionReturn(0);
 }
@@ -50,40 +52,45 @@ PetscErrorCode CreateDMDA(MPI_Comm comm, PetscInt dim, const DMBoundaryType bt[3
 
 PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Grids *g)
 {
-  FluidGrid    &fg = g->fluid;
-  ParticleGrid &pg = g->particle;
-  const int     dim = (int)dom.dim;
+  FluidGrid    &fg    = g->fluid;
+  ParticleGrid &pg    = g->particle;
+  const int     dim   = (int)dom.dim;
   PetscInt      nf[3] = {0, 0, 0}, ratio[3] = {0, 0, 0}, nratio = 3, procs[3] = {PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE}, nprocs = 3;
   PetscReal     cell_diameters = 3.0;
   PetscBool     set_n[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, set_ratio = PETSC_FALSE, set_procs = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "grid_", "Fluid grid (fine, cell-centred)", "Grids");
-  PetscCall(OptionsInt(PetscOptionsObject, "-nx", "Fluid cells along x (default: the particle grid, ratio 1)", 0, 1 << 20, &nf[0], &set_n[0]));
+  PetscCall(
+    OptionsInt(PetscOptionsObject, "-nx", "Fluid cells along x (default: the particle grid, ratio 1)", 0, 1 << 20, &nf[0], &set_n[0]));
   PetscCall(OptionsInt(PetscOptionsObject, "-ny", "Fluid cells along y (vertical)", 0, 1 << 20, &nf[1], &set_n[1]));
   PetscCall(OptionsInt(PetscOptionsObject, "-nz", "Fluid cells along z (3D only)", 0, 1 << 20, &nf[2], &set_n[2]));
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, "pgrid_", "Particle grid (coarse, aligned with the fluid grid)", "Grids");
-  PetscCall(PetscOptionsIntArray("-ratio", "Fluid cells per particle cell along x,y,z (one value: all directions); must divide -grid_n*; 1 = single grid",
-                                 "", ratio, &nratio, &set_ratio));
-  PetscCall(OptionsReal(PetscOptionsObject, "-cell_diameters", "Target particle cell size in largest particle diameters, used when -pgrid_ratio is not given",
-                        "d", Closed(1.0, 1000.0), &cell_diameters, NULL));
-  PetscCall(PetscOptionsIntArray("-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)", "", procs, &nprocs, &set_procs));
+  PetscCall(PetscOptionsIntArray(
+    "-ratio", "Fluid cells per particle cell along x,y,z (one value: all directions); must divide -grid_n*; 1 = single grid", "", ratio,
+    &nratio, &set_ratio));
+  PetscCall(OptionsReal(PetscOptionsObject, "-cell_diameters",
+                        "Target particle cell size in largest particle diameters, used when -pgrid_ratio is not given", "d",
+                        Closed(1.0, 1000.0), &cell_diameters, NULL));
+  PetscCall(PetscOptionsIntArray("-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)", "", procs,
+                                 &nprocs, &set_procs));
   PetscOptionsEnd();
 
   if (set_ratio) {
     PetscCheck(nratio == 1 || nratio == dim, comm, PETSC_ERR_USER_INPUT, "-pgrid_ratio takes 1 or %d values, got %d", dim, (int)nratio);
     if (nratio == 1) ratio[1] = ratio[2] = ratio[0];
     for (int a = 0; a < dim; ++a)
-      PetscCheck(ratio[a] >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-pgrid_ratio along %s = %d is out of range: allowed whole numbers >= 1", AxisName[a], (int)ratio[a]);
+      PetscCheck(ratio[a] >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-pgrid_ratio along %s = %d is out of range: allowed whole numbers >= 1",
+                 AxisName[a], (int)ratio[a]);
   }
   if (set_procs) PetscCheck(nprocs == dim, comm, PETSC_ERR_USER_INPUT, "-pgrid_processors takes %d values, got %d", dim, (int)nprocs);
 
   const PetscReal target = cell_diameters * d_max;
   for (int a = 0; a < 3; ++a) {
     if (a >= dim) {
-      nf[a] = 1;
+      nf[a]    = 1;
       ratio[a] = 1;
       continue;
     }
@@ -96,21 +103,20 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
       ratio[a] = (PetscInt)kernels::nearest_divisor(nf[a], target / (dom.len[a] / nf[a]));
     }
     PetscCheck(nf[a] % ratio[a] == 0, comm, PETSC_ERR_USER_INPUT,
-               "non-integer grid ratio: -grid_n%s %d is not a multiple of -pgrid_ratio %d along %s; whole divisors of %d are %s", AxisName[a], (int)nf[a],
-               (int)ratio[a], AxisName[a], (int)nf[a], kernels::divisor_list(nf[a]).c_str());
-    fg.n[a]    = nf[a];
-    fg.h[a]    = dom.len[a] / nf[a];
+               "non-integer grid ratio: -grid_n%s %d is not a multiple of -pgrid_ratio %d along %s; whole divisors of %d are %s",
+               AxisName[a], (int)nf[a], (int)ratio[a], AxisName[a], (int)nf[a], kernels::divisor_list(nf[a]).c_str());
+    fg.n[a]     = nf[a];
+    fg.h[a]     = dom.len[a] / nf[a];
     pg.ratio[a] = ratio[a];
-    pg.n[a]    = nf[a] / ratio[a];
-    pg.h[a]    = dom.len[a] / pg.n[a];
+    pg.n[a]     = nf[a] / ratio[a];
+    pg.h[a]     = dom.len[a] / pg.n[a];
     PetscCheck(pg.h[a] >= d_max * (1.0 - 1e-12), comm, PETSC_ERR_USER_INPUT,
-               "particle cell of %.6g m along %s is smaller than the largest particle diameter %.6g m: use a larger -pgrid_ratio (divisors of %d: %s) or fewer "
+               "particle cell of %.6g m along %s is smaller than the largest particle diameter %.6g m: use a larger -pgrid_ratio (divisors "
+               "of %d: %s) or fewer "
                "-grid_n%s cells",
                (double)pg.h[a], AxisName[a], (double)d_max, (int)nf[a], kernels::divisor_list(nf[a]).c_str(), AxisName[a]);
   }
-  if (dim == 2) {
-    fg.h[2] = pg.h[2] = dom.len[2];
-  }
+  if (dim == 2) { fg.h[2] = pg.h[2] = dom.len[2]; }
 
   // Coarse cell-centred DMDA: PETSc picks a balanced process grid; the other two follow its ownership.
   DMBoundaryType bt[3], bnone[3] = {DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE};
@@ -121,17 +127,17 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     PetscMPIInt     nranks;
     PetscCallMPI(MPI_Comm_size(comm, &nranks));
     if (set_procs) {
-      PetscCheck(procs[0] * procs[1] * (dim == 3 ? procs[2] : 1) == nranks, comm, PETSC_ERR_USER_INPUT, "-pgrid_processors product must equal the %d ranks",
-                 (int)nranks);
+      PetscCheck(procs[0] * procs[1] * (dim == 3 ? procs[2] : 1) == nranks, comm, PETSC_ERR_USER_INPUT,
+                 "-pgrid_processors product must equal the %d ranks", (int)nranks);
     } else HorizontalProcessGrid(dim, pg.n, nranks, procs);
     for (int a = 0; a < dim; ++a) {
       // a rank must own at least one particle cell in every direction
-      PetscCheck(!set_procs || procs[a] <= pg.n[a], comm, PETSC_ERR_USER_INPUT, "%d ranks along %s but only %d particle cells", (int)procs[a], AxisName[a],
-                 (int)pg.n[a]);
+      PetscCheck(!set_procs || procs[a] <= pg.n[a], comm, PETSC_ERR_USER_INPUT, "%d ranks along %s but only %d particle cells",
+                 (int)procs[a], AxisName[a], (int)pg.n[a]);
     }
     PetscCheck(pg.n[0] * pg.n[1] * (dim == 3 ? pg.n[2] : 1) >= nranks, comm, PETSC_ERR_USER_INPUT,
-               "the particle grid has %d x %d x %d cells, fewer than the %d ranks: use fewer ranks or smaller particle cells", (int)pg.n[0], (int)pg.n[1],
-               (int)(dim == 3 ? pg.n[2] : 1), (int)nranks);
+               "the particle grid has %d x %d x %d cells, fewer than the %d ranks: use fewer ranks or smaller particle cells", (int)pg.n[0],
+               (int)pg.n[1], (int)(dim == 3 ? pg.n[2] : 1), (int)nranks);
     PetscCall(CreateDMDA(comm, dim, bnone, DMDA_STENCIL_BOX, pg.n, procs, none, 1, 1, &pg.da_cell));
     PetscCall(PetscObjectSetName((PetscObject)pg.da_cell, "particle_grid"));
     PetscCall(DMDAGetInfo(pg.da_cell, NULL, NULL, NULL, NULL, &size[0], &size[1], &size[2], NULL, NULL, NULL, NULL, NULL, NULL));
@@ -186,8 +192,8 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     PetscInt xs[3], xm[3];
     PetscCall(DMDAGetCorners(fg.da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
     for (int a = 0; a < dim; ++a)
-      PetscCheck(xs[a] == pg.cell_lo[a] * pg.ratio[a] && xm[a] == (pg.cell_hi[a] - pg.cell_lo[a]) * pg.ratio[a], PETSC_COMM_SELF, PETSC_ERR_PLIB,
-                 "fluid and particle grids are not aligned along %s", AxisName[a]);
+      PetscCheck(xs[a] == pg.cell_lo[a] * pg.ratio[a] && xm[a] == (pg.cell_hi[a] - pg.cell_lo[a]) * pg.ratio[a], PETSC_COMM_SELF,
+                 PETSC_ERR_PLIB, "fluid and particle grids are not aligned along %s", AxisName[a]);
   }
   PetscFunctionReturn(0);
 }
@@ -208,17 +214,20 @@ PetscErrorCode GridsView(const Grids &g, const Domain &dom, PetscViewer viewer)
 
   PetscFunctionBeginUser;
   if (dom.dim == 2) {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Fluid grid:    %d x %d cells of %.4g x %.4g mm\n", (int)fg.n[0], (int)fg.n[1], 1e3 * fg.h[0], 1e3 * fg.h[1]));
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Particle grid: %d x %d cells of %.4g x %.4g mm, ratio %d x %d%s, process grid %d x %d\n", (int)pg.n[0], (int)pg.n[1],
-                                     1e3 * pg.h[0], 1e3 * pg.h[1], (int)pg.ratio[0], (int)pg.ratio[1],
-                                     (pg.ratio[0] * pg.ratio[1] == 1) ? " (single grid)" : " (two-grid)", (int)pg.procs[0], (int)pg.procs[1]));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Fluid grid:    %d x %d cells of %.4g x %.4g mm\n", (int)fg.n[0], (int)fg.n[1], 1e3 * fg.h[0],
+                                     1e3 * fg.h[1]));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Particle grid: %d x %d cells of %.4g x %.4g mm, ratio %d x %d%s, process grid %d x %d\n",
+                                     (int)pg.n[0], (int)pg.n[1], 1e3 * pg.h[0], 1e3 * pg.h[1], (int)pg.ratio[0], (int)pg.ratio[1],
+                                     (pg.ratio[0] * pg.ratio[1] == 1) ? " (single grid)" : " (two-grid)", (int)pg.procs[0],
+                                     (int)pg.procs[1]));
   } else {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Fluid grid:    %d x %d x %d cells of %.4g x %.4g x %.4g mm\n", (int)fg.n[0], (int)fg.n[1], (int)fg.n[2],
-                                     1e3 * fg.h[0], 1e3 * fg.h[1], 1e3 * fg.h[2]));
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Particle grid: %d x %d x %d cells of %.4g x %.4g x %.4g mm, ratio %d x %d x %d%s, process grid %d x %d x %d\n",
-                                     (int)pg.n[0], (int)pg.n[1], (int)pg.n[2], 1e3 * pg.h[0], 1e3 * pg.h[1], 1e3 * pg.h[2], (int)pg.ratio[0],
-                                     (int)pg.ratio[1], (int)pg.ratio[2], (pg.ratio[0] * pg.ratio[1] * pg.ratio[2] == 1) ? " (single grid)" : " (two-grid)",
-                                     (int)pg.procs[0], (int)pg.procs[1], (int)pg.procs[2]));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Fluid grid:    %d x %d x %d cells of %.4g x %.4g x %.4g mm\n", (int)fg.n[0], (int)fg.n[1],
+                                     (int)fg.n[2], 1e3 * fg.h[0], 1e3 * fg.h[1], 1e3 * fg.h[2]));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Particle grid: %d x %d x %d cells of %.4g x %.4g x %.4g mm, ratio %d x %d x %d%s, process grid %d x %d x %d\n", (int)pg.n[0],
+      (int)pg.n[1], (int)pg.n[2], 1e3 * pg.h[0], 1e3 * pg.h[1], 1e3 * pg.h[2], (int)pg.ratio[0], (int)pg.ratio[1], (int)pg.ratio[2],
+      (pg.ratio[0] * pg.ratio[1] * pg.ratio[2] == 1) ? " (single grid)" : " (two-grid)", (int)pg.procs[0], (int)pg.procs[1],
+      (int)pg.procs[2]));
   }
   PetscFunctionReturn(0);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <string>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace fluidbed {
 
@@ -40,7 +41,7 @@ PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   PetscReal vmax2 = 0;
   for (PetscInt i = 0; i < p.n; ++i) {
-    const PetscReal m = dem->props->Mass(p.d[i]), I = kernels::sphere_inertia(m, p.d[i]);
+    const PetscReal  m = dem->props->Mass(p.d[i]), I = kernels::sphere_inertia(m, p.d[i]);
     const PetscReal *v = &p.v[3 * i], *w = &p.w[3 * i];
     const PetscReal  v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     loc[0] += 0.5 * m * v2;
@@ -62,14 +63,14 @@ PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
   t->ke_rot   = glob[1];
   t->pe_grav  = glob[2];
   for (int a = 0; a < 3; ++a) t->momentum[a] = glob[3 + a];
-  t->contacts_per_particle = t->count ? glob[6] / (PetscReal)t->count : 0.0;
-  t->max_speed             = gmx[0];
-  t->max_overlap_rel       = gmx[1];
+  t->contacts_per_particle   = t->count ? glob[6] / (PetscReal)t->count : 0.0;
+  t->max_speed               = gmx[0];
+  t->max_overlap_rel         = gmx[1];
   dem->stats.max_overlap_rel = 0.0; // the next row reports the maximum over its own interval
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, Monitor *m)
+PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, Monitor *m)
 {
   PetscMPIInt rank;
   PetscInt    ids[256], nids = 256;
@@ -78,23 +79,29 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionBeginUser;
   m->interval = t_final / 200.0;
   PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities and tracked particles", "Output");
-  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200)", "s", NonNegative(), &m->interval, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200)", "s", NonNegative(),
+                        &m->interval, NULL));
   PetscCall(PetscOptionsIntArray("-track_ids", "Particle ids whose state goes to track.csv", "", ids, &nids, &set));
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
   if (set) m->track_ids.assign(ids, ids + nids);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank) {
-    const std::string path = std::string(dir) + "/monitor.csv";
-    m->csv                 = fopen(path.c_str(), "w");
+    const std::string path  = std::string(dir) + "/monitor.csv";
+    const bool        fresh = !append || access(path.c_str(), F_OK) != 0;
+    m->csv                  = fopen(path.c_str(), fresh ? "w" : "a");
     PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path.c_str());
-    fprintf(m->csv, "step,time,particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
-                    "outlet_removed,rebuilds\n");
+    if (fresh)
+      fprintf(
+        m->csv,
+        "step,time,particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
+        "outlet_removed,rebuilds\n");
     if (!m->track_ids.empty()) {
-      const std::string tpath = std::string(dir) + "/track.csv";
-      m->track                = fopen(tpath.c_str(), "w");
+      const std::string tpath  = std::string(dir) + "/track.csv";
+      const bool        tfresh = !append || access(tpath.c_str(), F_OK) != 0;
+      m->track                 = fopen(tpath.c_str(), tfresh ? "w" : "a");
       PetscCheck(m->track, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", tpath.c_str());
-      fprintf(m->track, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
+      if (tfresh) fprintf(m->track, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
     }
   }
   PetscFunctionReturn(0);
@@ -105,9 +112,10 @@ PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
   PetscFunctionBeginUser;
   (void)comm;
   if (m->csv) {
-    fprintf(m->csv, "%lld,%.10e,%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld\n", (long long)step, (double)time, (long long)t.count,
-            (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0], (double)t.momentum[1],
-            (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel, (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
+    fprintf(m->csv, "%lld,%.10e,%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld\n", (long long)step, (double)time,
+            (long long)t.count, (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav,
+            (double)t.momentum[0], (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
+            (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
     fflush(m->csv);
   }
   PetscFunctionReturn(0);
@@ -140,8 +148,8 @@ PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
     for (std::size_t k = 0; k < nt; ++k) {
       const PetscReal *r = &glob[13 * k];
       if (r[0] == 0.0) continue; // not (or no longer) in the system
-      fprintf(m->track, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n", (long long)step, (double)time,
-              (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12]);
+      fprintf(m->track, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n", (long long)step,
+              (double)time, (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12]);
     }
   }
   PetscFunctionReturn(0);

@@ -79,10 +79,22 @@ void JsonWriter::Number(const char *key, double v)
   else snprintf(buf, sizeof(buf), "null");
   body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + buf;
 }
-void JsonWriter::Integer(const char *key, long long v) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + std::to_string(v); }
-void JsonWriter::String(const char *key, const std::string &v) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + Quote(v); }
-void JsonWriter::Object(const char *key, const JsonWriter &inner) { body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + inner.Text(); }
-std::string JsonWriter::Text() const { return "{\n" + body + "\n}"; }
+void JsonWriter::Integer(const char *key, long long v)
+{
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + std::to_string(v);
+}
+void JsonWriter::String(const char *key, const std::string &v)
+{
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + Quote(v);
+}
+void JsonWriter::Object(const char *key, const JsonWriter &inner)
+{
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + inner.Text();
+}
+std::string JsonWriter::Text() const
+{
+  return "{\n" + body + "\n}";
+}
 
 PetscErrorCode JsonWrite(MPI_Comm comm, const char *path, const JsonWriter &json)
 {

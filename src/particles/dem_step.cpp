@@ -39,8 +39,8 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
   d->halo = props.d_max + d->skin;
   for (int a = 0; a < dom.dim; ++a)
     PetscCheck(!dom.periodic[a] || dom.len[a] >= 2.0 * d->halo, comm, PETSC_ERR_USER_INPUT,
-               "periodic length %.6g m along axis %d is shorter than two contact cutoffs (%.6g m): enlarge the domain", (double)dom.len[a], a,
-               (double)(2.0 * d->halo));
+               "periodic length %.6g m along axis %d is shorter than two contact cutoffs (%.6g m): enlarge the domain", (double)dom.len[a],
+               a, (double)(2.0 * d->halo));
   PetscCallMPI(MPI_Type_contiguous((int)(sizeof(ContactBody) / sizeof(PetscReal)), MPIU_REAL, &d->ghosts.body_type));
   PetscCallMPI(MPI_Type_commit(&d->ghosts.body_type));
   *dem = d;
@@ -54,11 +54,12 @@ PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DemSetUp(Dem *dem, DM swarm)
+PetscErrorCode DemSetUp(Dem *dem, DM swarm, PetscBool restart)
 {
   PetscFunctionBeginUser;
   dem->swarm = swarm;
   PetscCall(Rebuild(dem));
+  if (restart) PetscFunctionReturn(0);
   PetscCall(PhaseBegin(dem->log, PHASE_CONTACT));
   PetscCall(DemContactForces(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_CONTACT));

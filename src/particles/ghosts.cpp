@@ -13,10 +13,10 @@ namespace fluidbed {
 
 namespace {
 
-constexpr const char *kGhostBody  = "ghost_body";   // 11 reals: ContactBody
-constexpr const char *kGhostId    = "ghost_id";     // PetscInt64
-constexpr const char *kGhostOwner = "ghost_owner";  // 2 PetscInt: owner rank, owner local index
-constexpr const char *kGhostShift = "ghost_shift";  // 3 reals: periodic image offset
+constexpr const char *kGhostBody  = "ghost_body";  // 11 reals: ContactBody
+constexpr const char *kGhostId    = "ghost_id";    // PetscInt64
+constexpr const char *kGhostOwner = "ghost_owner"; // 2 PetscInt: owner rank, owner local index
+constexpr const char *kGhostShift = "ghost_shift"; // 3 reals: periodic image offset
 
 PetscErrorCode GhostSwarmCreate(MPI_Comm comm, DM *gsw)
 {
@@ -45,14 +45,14 @@ struct GhostCopy {
 PetscErrorCode DemGhostsBuild(Dem *dem)
 {
   static_assert(sizeof(ContactBody) == 11 * sizeof(PetscReal), "ContactBody must be 11 packed reals for the ghost PetscSF");
-  GhostExchange      &gx  = dem->ghosts;
-  const Domain       &dom = *dem->dom;
-  const ParticleGrid &pg  = *dem->pgrid;
-  MPI_Comm            comm = PetscObjectComm((PetscObject)dem->swarm);
-  const int           dim  = (int)dom.dim;
-  const PetscReal     h    = dem->halo;
-  PetscMPIInt         rank;
-  PetscInt            nlocal;
+  GhostExchange         &gx   = dem->ghosts;
+  const Domain          &dom  = *dem->dom;
+  const ParticleGrid    &pg   = *dem->pgrid;
+  MPI_Comm               comm = PetscObjectComm((PetscObject)dem->swarm);
+  const int              dim  = (int)dom.dim;
+  const PetscReal        h    = dem->halo;
+  PetscMPIInt            rank;
+  PetscInt               nlocal;
   std::vector<GhostCopy> copies;
 
   PetscFunctionBeginUser;
@@ -101,9 +101,9 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
 
   // Send the copies through the ghost swarm.
   {
-    PetscInt    *dest, *owner;
-    PetscReal   *body, *shift;
-    PetscInt64  *gid;
+    PetscInt      *dest, *owner;
+    PetscReal     *body, *shift;
+    PetscInt64    *gid;
     ParticleArrays p;
     PetscCall(DMSwarmSetLocalSizes(gx.swarm, (PetscInt)copies.size(), 256));
     PetscCall(ParticleArraysGet(dem->swarm, &p));
@@ -167,8 +167,8 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
 
 PetscErrorCode DemGhostsUpdate(Dem *dem)
 {
-  GhostExchange  &gx = dem->ghosts;
-  const PetscInt  nlocal = (PetscInt)dem->bodies.size() - gx.n;
+  GhostExchange &gx     = dem->ghosts;
+  const PetscInt nlocal = (PetscInt)dem->bodies.size() - gx.n;
 
   PetscFunctionBeginUser;
   if (!gx.sf) PetscFunctionReturn(0);

@@ -48,7 +48,8 @@ PetscErrorCode ReadParticleCSV(MPI_Comm comm, const char *path, GlobalParticles 
     }
   }
   if (!col.count("d") && col.count("diameter")) col["d"] = col["diameter"];
-  for (const char *need : {"x", "y", "d"}) PetscCheck(col.count(need), comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s has no column '%s'", path, need);
+  for (const char *need : {"x", "y", "d"})
+    PetscCheck(col.count(need), comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s has no column '%s'", path, need);
   auto get = [&](const std::vector<double> &row, const char *name) { return col.count(name) ? row[col[name]] : 0.0; };
   for (long lineno = 2; std::getline(in, line); ++lineno) {
     if (line.empty()) continue;
@@ -56,8 +57,8 @@ PetscErrorCode ReadParticleCSV(MPI_Comm comm, const char *path, GlobalParticles 
     std::stringstream   ss(line);
     std::string         tok;
     while (std::getline(ss, tok, ',')) row.push_back(std::strtod(tok.c_str(), NULL));
-    PetscCheck(row.size() >= col.size(), comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s line %ld has %d values, the header %d", path, lineno, (int)row.size(),
-               (int)col.size());
+    PetscCheck(row.size() >= col.size(), comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s line %ld has %d values, the header %d", path,
+               lineno, (int)row.size(), (int)col.size());
     g->x.push_back({get(row, "x"), get(row, "y"), get(row, "z")});
     g->v.push_back({get(row, "vx"), get(row, "vy"), get(row, "vz")});
     g->w.push_back({get(row, "wx"), get(row, "wy"), get(row, "wz")});
@@ -69,53 +70,60 @@ PetscErrorCode ReadParticleCSV(MPI_Comm comm, const char *path, GlobalParticles 
 
 } // namespace
 
-PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleGrid &pg, const ParticleProps &props, DM sw, InsertionReport *report)
+PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleGrid &pg, const ParticleProps &props, DM sw,
+                               InsertionReport *report)
 {
-  const int       dim = (int)dom.dim;
-  InsertType      type = INSERT_LATTICE;
+  const int  dim  = (int)dom.dim;
+  InsertType type = INSERT_LATTICE;
   // Defaults: the default scene's 4000 particles on a loose jittered lattice.
-  PetscInt        count = 4000, seed = 1;
-  PetscReal       bed_height = 0.0, packing = 0.6, spacing = 1.05, jitter = 0.5, vel_random = 0.0;
-  PetscReal       region[6] = {dom.lo[0], dom.hi[0], dom.lo[1], dom.hi[1], dom.lo[2], dom.hi[2]};
-  PetscReal       velocity[3] = {0, 0, 0};
-  PetscInt        nregion = 2 * dim, nvel = 3;
-  PetscBool       set_count = PETSC_FALSE, set_height = PETSC_FALSE;
-  char            file[PETSC_MAX_PATH_LEN] = "";
-  GlobalParticles g;
+  PetscInt               count = 4000, seed = 1;
+  PetscReal              bed_height = 0.0, packing = 0.6, spacing = 1.05, jitter = 0.5, vel_random = 0.0;
+  PetscReal              region[6]   = {dom.lo[0], dom.hi[0], dom.lo[1], dom.hi[1], dom.lo[2], dom.hi[2]};
+  PetscReal              velocity[3] = {0, 0, 0};
+  PetscInt               nregion = 2 * dim, nvel = 3;
+  PetscBool              set_count = PETSC_FALSE, set_height = PETSC_FALSE;
+  char                   file[PETSC_MAX_PATH_LEN] = "";
+  GlobalParticles        g;
   std::vector<PetscReal> lpos(3 * kMaxList), lvel(3 * kMaxList), lomg(3 * kMaxList), ldiam(kMaxList);
-  PetscInt        npos = (PetscInt)lpos.size(), nlvel = (PetscInt)lvel.size(), nlomg = (PetscInt)lomg.size(), nldiam = (PetscInt)ldiam.size();
-  PetscBool       set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
+  PetscInt  npos = (PetscInt)lpos.size(), nlvel = (PetscInt)lvel.size(), nlomg = (PetscInt)lomg.size(), nldiam = (PetscInt)ldiam.size();
+  PetscBool set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "insert_", "Initial particles", "Insertion");
-  PetscCall(PetscOptionsEnum("-type", "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)", "",
-                             InsertTypes, (PetscEnum)type, (PetscEnum *)&type, NULL));
+  PetscCall(PetscOptionsEnum("-type",
+                             "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)",
+                             "", InsertTypes, (PetscEnum)type, (PetscEnum *)&type, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-count", "Number of particles (lattice, random)", 0, PETSC_MAX_INT, &count, &set_count));
-  PetscCall(OptionsReal(PetscOptionsObject, "-bed_height", "Settled bed height that sets the particle count with -insert_packing (instead of -insert_count)", "m",
+  PetscCall(OptionsReal(PetscOptionsObject, "-bed_height",
+                        "Settled bed height that sets the particle count with -insert_packing (instead of -insert_count)", "m",
                         NonNegative(100.0), &bed_height, &set_height));
-  PetscCall(OptionsReal(PetscOptionsObject, "-packing", "Solid fraction of the settled bed used with -insert_bed_height", "", Closed(0.05, 0.74), &packing, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-packing", "Solid fraction of the settled bed used with -insert_bed_height", "",
+                        Closed(0.05, 0.74), &packing, NULL));
   PetscCall(OptionsRealArray(PetscOptionsObject, "-region", "Insertion box xmin,xmax,ymin,ymax[,zmin,zmax] (default: the domain)", "m",
                              Closed(-100.0, 100.0), region, &nregion, PETSC_TRUE, NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-seed", "Seed of the random jitter, fill and size distribution", 0, PETSC_MAX_INT, &seed, NULL));
+  PetscCall(
+    OptionsInt(PetscOptionsObject, "-seed", "Seed of the random jitter, fill and size distribution", 0, PETSC_MAX_INT, &seed, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-spacing", "Lattice spacing in largest diameters", "d", Closed(1.0, 100.0), &spacing, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-jitter", "Random lattice displacement as a fraction of the gap", "", Closed(0.0, 0.999), &jitter, NULL));
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-velocity", "Initial velocity of every particle vx,vy,vz", "m/s", Closed(-1e3, 1e3), velocity, &nvel, PETSC_TRUE,
-                             NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-velocity_random", "Amplitude of a random initial velocity added per component", "m/s", Closed(0.0, 1e3), &vel_random,
-                        NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-jitter", "Random lattice displacement as a fraction of the gap", "", Closed(0.0, 0.999),
+                        &jitter, NULL));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-velocity", "Initial velocity of every particle vx,vy,vz", "m/s", Closed(-1e3, 1e3),
+                             velocity, &nvel, PETSC_TRUE, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-velocity_random", "Amplitude of a random initial velocity added per component", "m/s",
+                        Closed(0.0, 1e3), &vel_random, NULL));
   PetscCall(PetscOptionsRealArray("-positions", "list: particle centres x,y,z,x,y,z,... [m]", "", lpos.data(), &npos, NULL));
   PetscCall(PetscOptionsRealArray("-velocities", "list: velocities vx,vy,vz,... [m/s]", "", lvel.data(), &nlvel, &set_lvel));
   PetscCall(PetscOptionsRealArray("-omegas", "list: angular velocities wx,wy,wz,... [rad/s]", "", lomg.data(), &nlomg, &set_lomg));
   PetscCall(PetscOptionsRealArray("-diameters", "list: diameters [m] (default -particle_diameter)", "", ldiam.data(), &nldiam, &set_ldiam));
-  PetscCall(PetscOptionsString("-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)", "", file, file, sizeof(file), NULL));
+  PetscCall(PetscOptionsString("-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)", "", file, file,
+                               sizeof(file), NULL));
   PetscOptionsEnd();
 
   for (int a = 0; a < dim; ++a) {
-    PetscCheck(region[2 * a] < region[2 * a + 1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-insert_region: min %.6g >= max %.6g along axis %d", (double)region[2 * a],
-               (double)region[2 * a + 1], a);
+    PetscCheck(region[2 * a] < region[2 * a + 1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-insert_region: min %.6g >= max %.6g along axis %d",
+               (double)region[2 * a], (double)region[2 * a + 1], a);
     PetscCheck(region[2 * a] >= dom.lo[a] - 1e-12 && region[2 * a + 1] <= dom.hi[a] + 1e-12, comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "-insert_region [%.6g, %.6g] along axis %d is outside the domain [%.6g, %.6g]", (double)region[2 * a], (double)region[2 * a + 1], a, (double)dom.lo[a],
-               (double)dom.hi[a]);
+               "-insert_region [%.6g, %.6g] along axis %d is outside the domain [%.6g, %.6g]", (double)region[2 * a],
+               (double)region[2 * a + 1], a, (double)dom.lo[a], (double)dom.hi[a]);
   }
   if (dim == 2) {
     region[4] = dom.lo[2];
@@ -127,8 +135,9 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   if (type == INSERT_LATTICE || type == INSERT_RANDOM) {
     PetscCheck(!(set_count && set_height), comm, PETSC_ERR_USER_INPUT, "give either -insert_count or -insert_bed_height, not both");
     if (set_height) {
-      const PetscReal d3    = props.d_max > props.d_min ? (PetscPowReal(props.d_max, 4) - PetscPowReal(props.d_min, 4)) / (4.0 * (props.d_max - props.d_min))
-                                                        : PetscPowReal(props.d_min, 3);
+      const PetscReal d3    = props.d_max > props.d_min
+                                ? (PetscPowReal(props.d_max, 4) - PetscPowReal(props.d_min, 4)) / (4.0 * (props.d_max - props.d_min))
+                                : PetscPowReal(props.d_min, 3);
       const PetscReal vmean = PETSC_PI / 6.0 * d3;
       const PetscReal area  = (box.hi.x - box.lo.x) * (dim == 3 ? box.hi.z - box.lo.z : dom.len[2]);
       count                 = (PetscInt)PetscFloorReal(packing * area * bed_height / vmean + 0.5);
@@ -143,8 +152,10 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   } else if (type == INSERT_LIST) {
     PetscCheck(npos % 3 == 0 && npos > 0, comm, PETSC_ERR_USER_INPUT, "-insert_positions needs x,y,z triples, got %d values", (int)npos);
     const PetscInt n = npos / 3;
-    PetscCheck(!set_lvel || nlvel == 3 * n, comm, PETSC_ERR_USER_INPUT, "-insert_velocities needs %d values (3 per particle), got %d", (int)(3 * n), (int)nlvel);
-    PetscCheck(!set_lomg || nlomg == 3 * n, comm, PETSC_ERR_USER_INPUT, "-insert_omegas needs %d values (3 per particle), got %d", (int)(3 * n), (int)nlomg);
+    PetscCheck(!set_lvel || nlvel == 3 * n, comm, PETSC_ERR_USER_INPUT, "-insert_velocities needs %d values (3 per particle), got %d",
+               (int)(3 * n), (int)nlvel);
+    PetscCheck(!set_lomg || nlomg == 3 * n, comm, PETSC_ERR_USER_INPUT, "-insert_omegas needs %d values (3 per particle), got %d",
+               (int)(3 * n), (int)nlomg);
     PetscCheck(!set_ldiam || nldiam == n, comm, PETSC_ERR_USER_INPUT, "-insert_diameters needs %d values, got %d", (int)n, (int)nldiam);
     for (PetscInt i = 0; i < n; ++i) {
       g.x.push_back({lpos[3 * i], lpos[3 * i + 1], lpos[3 * i + 2]});
@@ -181,14 +192,16 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
     }
     const PetscReal r = 0.49 * g.d[i]; // a resting contact overlaps a wall slightly: allow 1% of d
     PetscCheck(g.d[i] > 0.0 && g.d[i] <= props.d_max * (1 + 1e-12), comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "particle %lld has diameter %.6g m outside (0, %.6g] (set -particle_diameter_max for larger particles)", (long long)g.id[i], (double)g.d[i],
-               (double)props.d_max);
+               "particle %lld has diameter %.6g m outside (0, %.6g] (set -particle_diameter_max for larger particles)", (long long)g.id[i],
+               (double)g.d[i], (double)props.d_max);
     const PetscReal c[3] = {g.x[i].x, g.x[i].y, g.x[i].z};
     for (int a = 0; a < dim; ++a) {
       const bool wall_lo = dom.IsParticleWall(2 * a), wall_hi = dom.IsParticleWall(2 * a + 1);
-      PetscCheck(c[a] - (wall_lo ? r : 0.0) >= dom.lo[a] && c[a] + (wall_hi ? r : 0.0) <= dom.hi[a] && c[a] < dom.hi[a], comm, PETSC_ERR_ARG_OUTOFRANGE,
-                 "particle %lld at (%.6g, %.6g, %.6g) m with diameter %.6g m lies outside the box [%.6g, %.6g] along axis %d or overlaps its wall by more than 1%% of d", (long long)g.id[i],
-                 (double)c[0], (double)c[1], (double)c[2], (double)g.d[i], (double)dom.lo[a], (double)dom.hi[a], a);
+      PetscCheck(c[a] - (wall_lo ? r : 0.0) >= dom.lo[a] && c[a] + (wall_hi ? r : 0.0) <= dom.hi[a] && c[a] < dom.hi[a], comm,
+                 PETSC_ERR_ARG_OUTOFRANGE,
+                 "particle %lld at (%.6g, %.6g, %.6g) m with diameter %.6g m lies outside the box [%.6g, %.6g] along axis %d or overlaps "
+                 "its wall by more than 1%% of d",
+                 (long long)g.id[i], (double)c[0], (double)c[1], (double)c[2], (double)g.d[i], (double)dom.lo[a], (double)dom.hi[a], a);
     }
     solid += PETSC_PI / 6.0 * g.d[i] * g.d[i] * g.d[i];
   }
@@ -228,7 +241,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   }
   PetscCall(ParticleArraysRestore(sw, &p));
 
-  const PetscReal vol = (box.hi.x - box.lo.x) * (box.hi.y - box.lo.y) * (box.hi.z - box.lo.z);
+  const PetscReal vol           = (box.hi.x - box.lo.x) * (box.hi.y - box.lo.y) * (box.hi.z - box.lo.z);
   report->count                 = (PetscInt64)N;
   report->solid_fraction_region = solid / vol;
   PetscFunctionReturn(0);

@@ -10,7 +10,10 @@ using kernels::Vec3;
 
 namespace {
 
-inline Vec3 Load3(const PetscReal *a, PetscInt i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
+inline Vec3 Load3(const PetscReal *a, PetscInt i)
+{
+  return {a[3 * i], a[3 * i + 1], a[3 * i + 2]};
+}
 inline void Store3(PetscReal *a, PetscInt i, const Vec3 &v)
 {
   a[3 * i]     = v.x;
@@ -29,8 +32,8 @@ inline void ConstrainPlanar(Vec3 &v, Vec3 &w)
 
 PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
 {
-  const Domain   &dom    = *dem->dom;
-  const PetscReal dt     = dem->par.dt, h = 0.5 * dt;
+  const Domain   &dom = *dem->dom;
+  const PetscReal dt = dem->par.dt, h = 0.5 * dt;
   const bool      planar = dom.dim == 2 || dem->par.pseudo2d;
   const PetscReal lim2   = 0.25 * dem->skin * dem->skin;
   ParticleArrays  p;
@@ -55,7 +58,7 @@ PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
         if (x >= dom.hi[a]) x -= dom.len[a];
         else if (x < dom.lo[a]) x += dom.len[a];
       }
-      p.x[dim * i + a] = x;
+      p.x[dim * i + a]   = x;
       const PetscReal dx = kernels::min_image(x - dem->x_ref[3 * i + a], dom.periodic[a] ? dom.len[a] : 0.0);
       d2 += dx * dx;
     }

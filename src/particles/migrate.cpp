@@ -15,12 +15,12 @@ constexpr PetscInt64 kNoParticle = INT64_MAX;
 
 PetscErrorCode DemMigrate(Dem *dem)
 {
-  const Domain          &dom = *dem->dom;
-  MPI_Comm               comm = PetscObjectComm((PetscObject)dem->swarm);
-  ParticleArrays         p;
-  std::vector<PetscInt>  outlet;
-  PetscInt64             escaped_id = kNoParticle, nout_local, nout;
-  PetscReal              escaped_x[3] = {0, 0, 0};
+  const Domain         &dom  = *dem->dom;
+  MPI_Comm              comm = PetscObjectComm((PetscObject)dem->swarm);
+  ParticleArrays        p;
+  std::vector<PetscInt> outlet;
+  PetscInt64            escaped_id   = kNoParticle, nout_local, nout;
+  PetscReal             escaped_x[3] = {0, 0, 0};
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
@@ -49,7 +49,8 @@ PetscErrorCode DemMigrate(Dem *dem)
       for (int b = 0; b < 3; ++b) xl[b] = escaped_x[b];
     PetscCallMPI(MPI_Allreduce(xl, x, 3, MPIU_REAL, MPI_SUM, comm));
     SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
-            "particle %lld left the domain through a wall at (%.6g, %.6g, %.6g) m: the contact was not resolved; reduce -dem_dt_factor (now %.6g) or raise -wall_kn",
+            "particle %lld left the domain through a wall at (%.6g, %.6g, %.6g) m: the contact was not resolved; reduce -dem_dt_factor "
+            "(now %.6g) or raise -wall_kn",
             (long long)first, (double)x[0], (double)x[1], (double)x[2], (double)dem->par.dt_factor);
   }
 
@@ -64,9 +65,10 @@ PetscErrorCode DemMigrate(Dem *dem)
   PetscCall(ParticlesGlobalCount(dem->swarm, &before));
   PetscCall(DMSwarmMigrate(dem->swarm, PETSC_TRUE));
   PetscCall(ParticlesGlobalCount(dem->swarm, &after));
-  PetscCheck(before == after, comm, PETSC_ERR_PLIB,
-             "DMSwarmMigrate lost %lld of %lld particles (a particle moved further than a neighbouring rank between neighbour-list rebuilds)",
-             (long long)(before - after), (long long)before);
+  PetscCheck(
+    before == after, comm, PETSC_ERR_PLIB,
+    "DMSwarmMigrate lost %lld of %lld particles (a particle moved further than a neighbouring rank between neighbour-list rebuilds)",
+    (long long)(before - after), (long long)before);
   PetscFunctionReturn(0);
 }
 

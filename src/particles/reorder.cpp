@@ -13,14 +13,16 @@ namespace fluidbed {
 
 PetscErrorCode ParticlesPermute(DM sw, const std::vector<PetscInt> &order)
 {
-  const char *names[] = {DMSwarmPICField_coor, field::velocity, field::omega, field::force, field::torque, field::diameter, field::id, field::contact_key,
-                         field::contact_hist, DMSwarmField_pid, DMSwarmField_rank, DMSwarmPICField_cellid};
+  const char       *names[] = {DMSwarmPICField_coor, field::velocity,  field::omega,      field::force,
+                               field::torque,        field::diameter,  field::id,         field::contact_key,
+                               field::contact_hist,  DMSwarmField_pid, DMSwarmField_rank, DMSwarmPICField_cellid};
   std::vector<char> tmp;
   PetscInt          n;
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
-  PetscCheck((PetscInt)order.size() == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "permutation of %d entries for %d particles", (int)order.size(), (int)n);
+  PetscCheck((PetscInt)order.size() == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "permutation of %d entries for %d particles", (int)order.size(),
+             (int)n);
   for (const char *name : names) {
     PetscInt      bs;
     PetscDataType type;
@@ -49,10 +51,10 @@ std::uint64_t MortonKey(std::uint64_t x, std::uint64_t y, std::uint64_t z)
 
 PetscErrorCode DemSortLocal(Dem *dem)
 {
-  const ParticleGrid &pg  = *dem->pgrid;
-  const PetscReal     bin = dem->props->d_max + dem->skin;
-  ParticleArrays      p;
-  PetscInt            nb[3];
+  const ParticleGrid                             &pg  = *dem->pgrid;
+  const PetscReal                                 bin = dem->props->d_max + dem->skin;
+  ParticleArrays                                  p;
+  PetscInt                                        nb[3];
   std::vector<std::pair<std::uint64_t, PetscInt>> key;
   std::vector<PetscInt>                           order;
 

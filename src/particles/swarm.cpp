@@ -5,7 +5,7 @@ namespace fluidbed {
 
 PetscErrorCode ParticlePropsSetFromOptions(MPI_Comm comm, const Domain &dom, ParticleProps *p)
 {
-  PetscReal d = p->d_min;
+  PetscReal d       = p->d_min;
   PetscBool set_min = PETSC_FALSE, set_max = PETSC_FALSE;
   PetscReal lmin = PetscMin(dom.len[0], dom.len[1]);
   if (dom.dim == 3) lmin = PetscMin(lmin, dom.len[2]);
@@ -14,16 +14,16 @@ PetscErrorCode ParticlePropsSetFromOptions(MPI_Comm comm, const Domain &dom, Par
   PetscOptionsBegin(comm, "particle_", "Particles", "Particles");
   PetscCall(OptionsReal(PetscOptionsObject, "-diameter", "Particle diameter (monodisperse)", "m", Positive(0.1), &d, NULL));
   p->d_min = p->d_max = d;
-  PetscCall(OptionsReal(PetscOptionsObject, "-diameter_min", "Smallest diameter of a uniform-by-number size distribution", "m", Positive(0.1), &p->d_min,
-                        &set_min));
-  PetscCall(OptionsReal(PetscOptionsObject, "-diameter_max", "Largest diameter of a uniform-by-number size distribution", "m", Positive(0.1), &p->d_max,
-                        &set_max));
+  PetscCall(OptionsReal(PetscOptionsObject, "-diameter_min", "Smallest diameter of a uniform-by-number size distribution", "m",
+                        Positive(0.1), &p->d_min, &set_min));
+  PetscCall(OptionsReal(PetscOptionsObject, "-diameter_max", "Largest diameter of a uniform-by-number size distribution", "m",
+                        Positive(0.1), &p->d_max, &set_max));
   PetscCall(OptionsReal(PetscOptionsObject, "-density", "Particle material density", "kg/m^3", Positive(1.0e5), &p->density, NULL));
   PetscOptionsEnd();
-  PetscCheck(p->d_max >= p->d_min, comm, PETSC_ERR_ARG_OUTOFRANGE, "-particle_diameter_max %.6g m must be at least -particle_diameter_min %.6g m",
-             (double)p->d_max, (double)p->d_min);
-  PetscCheck(p->d_max < lmin, comm, PETSC_ERR_ARG_OUTOFRANGE, "particle diameter %.6g m does not fit in the domain (smallest side %.6g m)", (double)p->d_max,
-             (double)lmin);
+  PetscCheck(p->d_max >= p->d_min, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-particle_diameter_max %.6g m must be at least -particle_diameter_min %.6g m", (double)p->d_max, (double)p->d_min);
+  PetscCheck(p->d_max < lmin, comm, PETSC_ERR_ARG_OUTOFRANGE, "particle diameter %.6g m does not fit in the domain (smallest side %.6g m)",
+             (double)p->d_max, (double)lmin);
   PetscFunctionReturn(0);
 }
 

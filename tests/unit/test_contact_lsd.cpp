@@ -11,7 +11,10 @@
 using namespace fluidbed::kernels;
 
 namespace {
-double glass_mass(double d) { return 2500.0 * M_PI / 6.0 * d * d * d; }
+double glass_mass(double d)
+{
+  return 2500.0 * M_PI / 6.0 * d * d * d;
+}
 } // namespace
 
 // Eq. 3.2-3.3 with m_eff = m/2, k_n = 800 N/m, e = 0.9: the seed quotes 3.675e-5 s for 550 um glass (ch. 3) and
@@ -46,12 +49,12 @@ TEST(LsdContact, PairForceIsExactlyAntisymmetric)
     const Vec3   vi{u(), u(), u()}, vj{u(), u(), u()}, wi{100 * u(), 100 * u(), 100 * u()}, wj{100 * u(), 100 * u(), 100 * u()};
     const double mi = glass_mass(2 * ri), mj = glass_mass(2 * rj);
     Vec3         hi{1e-6 * u(), 1e-6 * u(), 1e-6 * u()};
-    Vec3         hj = -hi;
+    Vec3         hj  = -hi;
     const Vec3   dij = xj - xi, dji = xi - xj;
-    auto         ki  = pair_kinematics(dij, norm(dij), ri, rj, vi, vj, wi, wj, sqrt_effective_mass(mi, mj));
-    auto         kj  = pair_kinematics(dji, norm(dji), rj, ri, vj, vi, wj, wi, sqrt_effective_mass(mj, mi));
-    auto         fi  = lsd_contact(m, ki, 1e-6, hi);
-    auto         fj  = lsd_contact(m, kj, 1e-6, hj);
+    auto         ki = pair_kinematics(dij, norm(dij), ri, rj, vi, vj, wi, wj, sqrt_effective_mass(mi, mj));
+    auto         kj = pair_kinematics(dji, norm(dji), rj, ri, vj, vi, wj, wi, sqrt_effective_mass(mj, mi));
+    auto         fi = lsd_contact(m, ki, 1e-6, hi);
+    auto         fj = lsd_contact(m, kj, 1e-6, hj);
     EXPECT_EQ(fi.normal.x, -fj.normal.x);
     EXPECT_EQ(fi.normal.y, -fj.normal.y);
     EXPECT_EQ(fi.normal.z, -fj.normal.z);
@@ -127,9 +130,9 @@ TEST(LsdContact, HeadOnRestitutionAndDuration)
       Vec3         f; // force on i
       if (gap < 0) {
         const Vec3 vpi = predicted_velocity(vi, f_prev, 1 / mass, h), vpj = predicted_velocity(vj, -f_prev, 1 / mass, h);
-        auto       k   = pair_kinematics(d, norm(d), r, r, vpi, vpj, {}, {}, sqrt_effective_mass(mass, mass));
-        auto       cf  = lsd_contact(m, k, dt, hist);
-        f              = cf.normal + cf.tangential;
+        auto       k  = pair_kinematics(d, norm(d), r, r, vpi, vpj, {}, {}, sqrt_effective_mass(mass, mass));
+        auto       cf = lsd_contact(m, k, dt, hist);
+        f             = cf.normal + cf.tangential;
       }
       if (prev_gap >= 0 && gap < 0) t_in = t - dt * gap / (gap - prev_gap);
       if (prev_gap < 0 && gap >= 0) t_out = t - dt * gap / (gap - prev_gap);

@@ -60,7 +60,7 @@ TEST(Packing, RandomFillIsReproducibleAndNonOverlapping)
 
 TEST(Packing, RandomFillReportsAnImpossibleFill)
 {
-  std::mt19937_64 rng(1);
+  std::mt19937_64     rng(1);
   std::vector<double> d(2000, 1e-3); // solid fraction 1.05 of a 1 cm^3 box
   EXPECT_THROW(random_fill({{0, 0, 0}, {0.01, 0.01, 0.01}}, 3, d, 0.0, rng, 50), std::runtime_error);
 }

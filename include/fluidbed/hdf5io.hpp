@@ -1,0 +1,40 @@
+// HDF5 snapshots (ParaView via XDMF) and checkpoints, written in parallel through PETSc's HDF5 viewer.
+//
+// Particle fields are viewed as Vecs wrapped around the DMSwarm field arrays (one dataset per field, rows in rank
+// order, shape (N, components)); DMDA fields are written in natural ordering, shape (Nz, Ny, Nx[, dof]). The
+// XDMF files are written by hand: a temporal collection of Polyvertex grids for particles and of CoRectMesh
+// grids for the gas, each pointing at datasets in the per-snapshot HDF5 files.
+#pragma once
+
+#include <petscviewerhdf5.h>
+
+#include <string>
+#include <vector>
+
+#include "fluidbed/dem.hpp"
+
+namespace fluidbed {
+
+// Particle datasets under /particles: position, velocity, omega, diameter and id; with `full` (checkpoints) also
+// force, torque and the contact history, everything needed to continue bit for bit.
+PetscErrorCode ParticlesWriteHDF5(DM swarm, PetscViewer viewer, PetscBool full);
+
+// Reads the /particles datasets of a checkpoint written by ParticlesWriteHDF5 (any number of ranks) and gives
+// every particle to the rank that owns its particle cell. The swarm's previous particles are replaced.
+PetscErrorCode ParticlesReadHDF5(DM swarm, PetscViewer viewer, const Domain &domain, const ParticleGrid &pgrid);
+
+// One entry of a snapshot series.
+struct SnapshotRecord {
+  PetscReal   time;
+  std::string file; // HDF5 file name relative to the XDMF file
+  PetscInt64  particles;
+};
+
+// Rewrites <dir>/particles.xmf for the whole series (rank 0).
+PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series);
+
+// Atomic file replacement: the caller writes `path + ".tmp"`, then this renames it onto `path` (rank 0, after
+// every rank has closed the file), so an interrupted write never destroys the previous file.
+PetscErrorCode CommitFile(MPI_Comm comm, const std::string &path);
+
+} // namespace fluidbed

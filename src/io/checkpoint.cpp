@@ -1,0 +1,189 @@
+// HDF5 snapshots with their XDMF series, checkpoints written atomically, and restart.
+#include "fluidbed/options.hpp"
+#include "fluidbed/simulation.hpp"
+
+#include <cstdio>
+
+namespace fluidbed {
+
+namespace {
+// 64-bit counters as HDF5 attributes: PETSc 3.18 writes no 64-bit integer attributes, doubles are exact below 2^53.
+PetscErrorCode WriteCount(PetscViewer viewer, const char *name, PetscInt64 value)
+{
+  const PetscReal v = (PetscReal)value;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", name, PETSC_REAL, &v));
+  PetscFunctionReturn(0);
+}
+PetscErrorCode ReadCount(PetscViewer viewer, const char *name, PetscInt64 *value)
+{
+  PetscReal v;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", name, PETSC_REAL, NULL, &v));
+  *value = (PetscInt64)v;
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
+{
+  OutputSchedule &o = sim->output;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(sim->comm, "", "HDF5 output, checkpoints and restart", "Output");
+  PetscCall(OptionsReal(PetscOptionsObject, "-output_interval",
+                        "Simulated time between HDF5 snapshots (snapshot_NNNNN.h5 + particles.xmf for ParaView; 0: none)", "s",
+                        NonNegative(), &o.interval, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-checkpoint_interval",
+                        "Simulated time between checkpoints (0: none); the last step is always checkpointed when set", "s", NonNegative(),
+                        &o.checkpoint_interval, NULL));
+  PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5); written to .tmp, then renamed",
+                               "", o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
+  PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks); the scene's options must match it", "",
+                               o.restart, o.restart, sizeof(o.restart), NULL));
+  PetscOptionsEnd();
+  if (!o.checkpoint_file[0])
+    PetscCall(PetscSNPrintf(o.checkpoint_file, sizeof(o.checkpoint_file), "%s/checkpoint.h5", sim->run.output_dir));
+  o.next            = 0.0; // the initial state is the first snapshot
+  o.next_checkpoint = o.checkpoint_interval;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
+{
+  OutputSchedule &o = sim->output;
+  PetscViewer     viewer;
+  char            name[64];
+  PetscInt64      n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(name, sizeof(name), "snapshot_%05d.h5", (int)o.series.size()));
+  const std::string path = std::string(sim->run.output_dir) + "/" + name;
+  PetscCall(ParticlesGlobalCount(sim->swarm, &n));
+  PetscCall(PetscViewerHDF5Open(sim->comm, path.c_str(), FILE_MODE_WRITE, &viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+  PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+  PetscCall(PetscViewerDestroy(&viewer));
+  o.series.push_back({sim->time, name, n});
+  PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, o.series));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
+{
+  OutputSchedule   &o    = sim->output;
+  const std::string path = o.checkpoint_file;
+  PetscViewer       viewer;
+  PetscMPIInt       size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  PetscCall(DemSyncPairHistory(sim->dem)); // both particles of every pair carry the current history
+  PetscCall(PetscViewerHDF5Open(sim->comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+  PetscCall(WriteCount(viewer, "step", sim->step));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
+  PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
+  {
+    // the snapshot series, so that particles.xmf continues after a restart
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
+    const PetscInt         ns = rank ? 0 : (PetscInt)o.series.size();
+    std::vector<PetscReal> rows(2 * (std::size_t)ns);
+    for (PetscInt k = 0; k < ns; ++k) {
+      rows[2 * (std::size_t)k]     = o.series[(std::size_t)k].time;
+      rows[2 * (std::size_t)k + 1] = (PetscReal)o.series[(std::size_t)k].particles;
+    }
+    PetscInt total = (PetscInt)o.series.size();
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshots", PETSC_INT, &total));
+    if (total) {
+      Vec v;
+      PetscCall(VecCreateMPIWithArray(sim->comm, 2, 2 * ns, PETSC_DECIDE, rows.data(), &v));
+      PetscCall(PetscObjectSetName((PetscObject)v, "snapshot_series"));
+      PetscCall(VecView(v, viewer));
+      PetscCall(VecDestroy(&v));
+    }
+  }
+  PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCall(CommitFile(sim->comm, path));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
+{
+  OutputSchedule &o = sim->output;
+  PetscViewer     viewer;
+  PetscInt        dim, total = 0;
+  PetscReal       dt;
+  PetscBool       exists;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTestFile(o.restart, 'r', &exists));
+  PetscCheck(exists, sim->comm, PETSC_ERR_FILE_OPEN, "-restart: cannot read %s", o.restart);
+  PetscCall(PetscViewerHDF5Open(sim->comm, o.restart, FILE_MODE_READ, &viewer));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
+  PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,
+             (int)sim->domain.dim);
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
+  PetscCheck(PetscAbsReal(dt - sim->dem->par.dt) <= 1e-12 * dt, sim->comm, PETSC_ERR_USER_INPUT,
+             "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
+             o.restart, (double)dt, (double)sim->dem->par.dt);
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
+  PetscCall(ReadCount(viewer, "step", &sim->step));
+  PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshot_next", PETSC_REAL, NULL, &o.next));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshots", PETSC_INT, NULL, &total));
+  o.series.clear();
+  if (total) {
+    Vec                v;
+    const PetscScalar *a;
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * total, &v)); // every rank keeps the (short) series
+    PetscCall(PetscObjectSetName((PetscObject)v, "snapshot_series"));
+    PetscCall(VecSetBlockSize(v, 2));
+    {
+      PetscViewer self;
+      PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, o.restart, FILE_MODE_READ, &self));
+      PetscCall(VecLoad(v, self));
+      PetscCall(PetscViewerDestroy(&self));
+    }
+    PetscCall(VecGetArrayRead(v, &a));
+    for (PetscInt k = 0; k < total; ++k) {
+      char name[64];
+      PetscCall(PetscSNPrintf(name, sizeof(name), "snapshot_%05d.h5", (int)k));
+      o.series.push_back({a[2 * k], name, (PetscInt64)a[2 * k + 1]});
+    }
+    PetscCall(VecRestoreArrayRead(v, &a));
+    PetscCall(VecDestroy(&v));
+  }
+  PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
+{
+  OutputSchedule &o  = sim->output;
+  const PetscReal dt = sim->dem->par.dt, eps = 0.5 * dt;
+
+  PetscFunctionBeginUser;
+  if (o.interval > 0 && sim->time >= o.next - eps) {
+    PetscCall(SimulationWriteSnapshot(sim));
+    while (o.next <= sim->time + eps) o.next += o.interval;
+  }
+  if (o.checkpoint_interval > 0 && (sim->time >= o.next_checkpoint - eps || last)) {
+    while (o.next_checkpoint <= sim->time + eps) o.next_checkpoint += o.checkpoint_interval;
+    PetscCall(SimulationWriteCheckpoint(sim));
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

@@ -1,0 +1,232 @@
+#include "fluidbed/hdf5io.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace fluidbed {
+
+namespace {
+
+// A dataset of n rows of bs reals from this rank's block of a field array.
+PetscErrorCode WriteRows(PetscViewer viewer, MPI_Comm comm, const char *name, PetscInt bs, PetscInt n, const PetscReal *data)
+{
+  Vec v;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPIWithArray(comm, bs, n * bs, PETSC_DECIDE, data, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecView(v, viewer));
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+// Integer fields go to HDF5 as doubles (exact below 2^53).
+PetscErrorCode WriteRowsInt64(PetscViewer viewer, MPI_Comm comm, const char *name, PetscInt bs, PetscInt n, const PetscInt64 *data)
+{
+  std::vector<PetscReal> tmp((std::size_t)(n * bs));
+
+  PetscFunctionBeginUser;
+  for (std::size_t k = 0; k < tmp.size(); ++k) tmp[k] = (PetscReal)data[k];
+  PetscCall(WriteRows(viewer, comm, name, bs, n, tmp.data()));
+  PetscFunctionReturn(0);
+}
+
+// Loads a dataset of rows of bs reals in PETSc's default row distribution.
+PetscErrorCode ReadRows(PetscViewer viewer, MPI_Comm comm, const char *name, PetscInt bs, Vec *v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecCreate(comm, v));
+  PetscCall(PetscObjectSetName((PetscObject)*v, name));
+  PetscCall(VecSetBlockSize(*v, bs));
+  PetscCall(VecLoad(*v, viewer));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)sw);
+  ParticleArrays p;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticleArraysGet(sw, &p));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  PetscCall(WriteRows(viewer, comm, "position", p.dim, p.n, p.x));
+  PetscCall(WriteRows(viewer, comm, "velocity", 3, p.n, p.v));
+  PetscCall(WriteRows(viewer, comm, "omega", 3, p.n, p.w));
+  PetscCall(WriteRows(viewer, comm, "diameter", 1, p.n, p.d));
+  PetscCall(WriteRowsInt64(viewer, comm, "id", 1, p.n, p.id));
+  if (full) {
+    PetscCall(WriteRows(viewer, comm, "force", 3, p.n, p.f));
+    PetscCall(WriteRows(viewer, comm, "torque", 3, p.n, p.t));
+    PetscCall(WriteRowsInt64(viewer, comm, "contact_key", p.K, p.n, p.ckey));
+    PetscCall(WriteRows(viewer, comm, "contact_hist", kHistoryStride * p.K, p.n, p.chist));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
+  }
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(ParticleArraysRestore(sw, &p));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, const ParticleGrid &pg)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)sw);
+  const int   dim  = (int)dom.dim;
+  PetscInt    Kf   = 0, K;
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/particles", "max_contacts", PETSC_INT, NULL, &Kf));
+  PetscCall(DMSwarmGetField(sw, field::contact_key, &K, NULL, NULL));
+  PetscCall(DMSwarmRestoreField(sw, field::contact_key, &K, NULL, NULL));
+
+  // Each rank reads a block of rows of every dataset.
+  struct Dataset {
+    const char *name;
+    PetscInt    bs;
+    Vec         v;
+  } sets[] = {{"position", dim, NULL}, {"velocity", 3, NULL},     {"omega", 3, NULL},
+              {"force", 3, NULL},      {"torque", 3, NULL},       {"diameter", 1, NULL},
+              {"id", 1, NULL},         {"contact_key", Kf, NULL}, {"contact_hist", kHistoryStride * Kf, NULL}};
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  for (auto &s : sets) PetscCall(ReadRows(viewer, comm, s.name, s.bs, &s.v));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscInt nrows, width = 0;
+  PetscCall(VecGetLocalSize(sets[0].v, &nrows));
+  nrows /= dim;
+  for (auto &s : sets) width += s.bs;
+
+  // Pack the rows, send each to the owner of its particle cell through a BASIC swarm, unpack into the PIC swarm.
+  DM rows;
+  PetscCall(DMCreate(comm, &rows));
+  PetscCall(DMSetType(rows, DMSWARM));
+  PetscCall(DMSwarmSetType(rows, DMSWARM_BASIC));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(rows, "row", width, PETSC_REAL));
+  PetscCall(DMSwarmFinalizeFieldRegister(rows));
+  PetscCall(DMSwarmSetLocalSizes(rows, nrows, 16));
+  {
+    PetscReal *buf;
+    PetscInt  *dest;
+    PetscCall(DMSwarmGetField(rows, "row", NULL, NULL, (void **)&buf));
+    PetscCall(DMSwarmGetField(rows, DMSwarmField_rank, NULL, NULL, (void **)&dest));
+    PetscInt off = 0;
+    for (auto &s : sets) {
+      const PetscScalar *a;
+      PetscCall(VecGetArrayRead(s.v, &a));
+      for (PetscInt r = 0; r < nrows; ++r)
+        for (PetscInt c = 0; c < s.bs; ++c) buf[width * r + off + c] = a[s.bs * r + c];
+      PetscCall(VecRestoreArrayRead(s.v, &a));
+      off += s.bs;
+    }
+    for (PetscInt r = 0; r < nrows; ++r) {
+      PetscInt q[3] = {0, 0, 0};
+      for (int a = 0; a < dim; ++a) {
+        PetscInt cell = (PetscInt)PetscFloorReal((buf[width * r + a] - dom.lo[a]) / pg.h[a]);
+        cell          = PetscMin(PetscMax(cell, 0), pg.n[a] - 1);
+        while (!(cell >= pg.start[a][q[a]] && cell < pg.start[a][q[a] + 1])) ++q[a];
+      }
+      dest[r] = pg.RankAt(q);
+    }
+    PetscCall(DMSwarmRestoreField(rows, DMSwarmField_rank, NULL, NULL, (void **)&dest));
+    PetscCall(DMSwarmRestoreField(rows, "row", NULL, NULL, (void **)&buf));
+  }
+  for (auto &s : sets) PetscCall(VecDestroy(&s.v));
+  PetscCall(DMSwarmMigrate(rows, PETSC_TRUE));
+
+  PetscInt n;
+  PetscCall(DMSwarmGetLocalSize(rows, &n));
+  PetscCall(DMSwarmSetLocalSizes(sw, n, 1024));
+  {
+    PetscReal     *buf;
+    ParticleArrays p;
+    PetscCall(DMSwarmGetField(rows, "row", NULL, NULL, (void **)&buf));
+    PetscCall(ParticleArraysGet(sw, &p));
+    for (PetscInt i = 0; i < n; ++i) {
+      const PetscReal *r = &buf[width * i];
+      PetscInt         o = 0;
+      for (int a = 0; a < dim; ++a) p.x[dim * i + a] = r[o + a];
+      o += dim;
+      for (int c = 0; c < 3; ++c) p.v[3 * i + c] = r[o + c];
+      o += 3;
+      for (int c = 0; c < 3; ++c) p.w[3 * i + c] = r[o + c];
+      o += 3;
+      for (int c = 0; c < 3; ++c) p.f[3 * i + c] = r[o + c];
+      o += 3;
+      for (int c = 0; c < 3; ++c) p.t[3 * i + c] = r[o + c];
+      o += 3;
+      p.d[i]  = r[o++];
+      p.id[i] = (PetscInt64)r[o++];
+      for (PetscInt s = 0; s < K; ++s) {
+        p.ckey[K * i + s] = kFreeSlot;
+        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = 0.0;
+      }
+      for (PetscInt s = 0; s < Kf; ++s) {
+        const PetscInt64 key = (PetscInt64)r[o + s];
+        if (key == kFreeSlot) continue;
+        PetscCheck(s < K, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                   "-restart: particle %lld holds %d contacts in the checkpoint; raise -dem_max_contacts to at least %d",
+                   (long long)p.id[i], (int)(s + 1), (int)Kf);
+        p.ckey[K * i + s] = key;
+        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = r[o + Kf + kHistoryStride * s + c];
+      }
+    }
+    PetscCall(ParticleArraysRestore(sw, &p));
+    PetscCall(DMSwarmRestoreField(rows, "row", NULL, NULL, (void **)&buf));
+  }
+  PetscCall(DMDestroy(&rows));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank) PetscFunctionReturn(0);
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"particles\" GridType=\"Collection\" "
+       "CollectionType=\"Temporal\">\n";
+  auto item = [&](const SnapshotRecord &s, const char *name, int comps) {
+    std::ostringstream d;
+    d << "<DataItem Dimensions=\"" << s.particles;
+    if (comps > 1) d << " " << comps;
+    d << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/particles/" << name << "</DataItem>";
+    return d.str();
+  };
+  for (const SnapshotRecord &s : series) {
+    x << "   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n";
+    x << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << s.particles << "\" NodesPerElement=\"1\"/>\n";
+    x << "    <Geometry GeometryType=\"" << (dim == 3 ? "XYZ" : "XY") << "\">" << item(s, "position", (int)dim) << "</Geometry>\n";
+    const char *vec[] = {"velocity", "omega"}, *scal[] = {"diameter", "id"};
+    for (const char *v : vec)
+      x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Vector\" Center=\"Node\">" << item(s, v, 3) << "</Attribute>\n";
+    for (const char *v : scal)
+      x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Scalar\" Center=\"Node\">" << item(s, v, 1) << "</Attribute>\n";
+    x << "   </Grid>\n";
+  }
+  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  const std::string path = dir + "/particles.xmf";
+  std::ofstream(path + ".tmp") << x.str();
+  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CommitFile(MPI_Comm comm, const std::string &path)
+{
+  PetscMPIInt rank;
+  int         err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Barrier(comm));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) err = std::rename((path + ".tmp").c_str(), path.c_str());
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "cannot rename %s.tmp to %s", path.c_str(), path.c_str());
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed
