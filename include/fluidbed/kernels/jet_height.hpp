@@ -21,7 +21,8 @@ namespace fluidbed::kernels {
 constexpr double kJetVoidFraction = 0.8;
 
 // The bottom-row cells (j = 0) of a jet whose slot spans [x_lo, x_hi] x [z_lo, z_hi]: those whose centre lies in
-// the slot, or, for a slot narrower than a cell, the cell holding the slot's centre. z is not read in 2D.
+// the slot, or, for a slot narrower than a cell, the cell holding the slot's centre. The default z range is the
+// whole depth (the seed's slits run through the bed depth); z is not read in 2D.
 inline std::vector<long> jet_inlet_cells(const CellGrid &g, double x_lo, double x_hi,
                                          double z_lo = -std::numeric_limits<double>::infinity(),
                                          double z_hi = std::numeric_limits<double>::infinity())
