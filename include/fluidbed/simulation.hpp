@@ -5,6 +5,7 @@
 
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
+#include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/io.hpp"
 #include "fluidbed/particles.hpp"
@@ -18,6 +19,9 @@ struct RunControl {
   PetscReal progress_interval = 10.0; // wall-clock s between progress lines
   PetscBool write_particles   = PETSC_TRUE;
   char      output_dir[PETSC_MAX_PATH_LEN] = "output";
+  PetscBool fluid           = PETSC_FALSE; // -fluid: the gas phase
+  PetscBool particles       = PETSC_TRUE;  // -particles: the DEM
+  PetscInt  couple_substeps = 1;           // -couple_substeps: gas step = DEM step x this, with both on
 };
 
 struct Simulation {
@@ -31,6 +35,7 @@ struct Simulation {
   InsertionReport inserted;
   Dem            *dem   = nullptr;
   DM              swarm = nullptr;
+  Fluid          *fluid = nullptr;
   PetscInt64      step  = 0;
   PetscReal       time  = 0.0;
   double          wall_setup = 0.0, wall_run = 0.0;

@@ -18,7 +18,12 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir, r->output_dir,
                                sizeof(r->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles, &r->write_particles, NULL));
+  PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid, &r->fluid, NULL));
+  PetscCall(PetscOptionsBool("-particles", "Turn the particles (DEM) on", "", r->particles, &r->particles, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1, 100000,
+                       &r->couple_substeps, NULL));
   PetscOptionsEnd();
+  PetscCheck(r->fluid || r->particles, comm, PETSC_ERR_USER_INPUT, "-particles 0 needs -fluid: there is nothing to simulate");
   PetscFunctionReturn(0);
 }
 
@@ -43,22 +48,29 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   const double psteps = (double)tot.count * (double)sim->step;
   json.Integer("steps", (long long)sim->step);
   json.Number("time", sim->time);
-  json.Number("dt", sim->dem->par.dt);
-  json.Number("t_cr", sim->dem->par.t_cr);
-  json.Number("t_cr_wall", sim->dem->par.t_cr_wall);
-  json.Integer("particles", (long long)tot.count);
-  json.Integer("particles_inserted", (long long)sim->inserted.count);
-  json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
+  if (sim->dem) {
+    json.Number("dt", sim->dem->par.dt);
+    json.Number("t_cr", sim->dem->par.t_cr);
+    json.Number("t_cr_wall", sim->dem->par.t_cr_wall);
+    json.Integer("particles", (long long)tot.count);
+    json.Integer("particles_inserted", (long long)sim->inserted.count);
+    json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
+  }
   json.Integer("ranks", size);
-  json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
-  json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
-  json.Number("contacts_per_particle", tot.contacts_per_particle);
+  if (sim->dem) {
+    json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
+    json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
+    json.Number("contacts_per_particle", tot.contacts_per_particle);
+  }
+  if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
   json.Number("wall_time_setup", sim->wall_setup);
   json.Number("wall_time_run", sim->wall_run);
   for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
   json.Object("wall_time_phase_max_over_ranks", phases);
-  json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
-  json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
+  if (sim->dem) {
+    json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
+    json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
+  }
   PetscCall(JsonWrite(sim->comm, (std::string(sim->run.output_dir) + "/summary.json").c_str(), json));
   PetscFunctionReturn(0);
 }
@@ -82,67 +94,134 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(PhaseLogRegister(&sim->log));
   PetscCall(RunControlSetFromOptions(sim->comm, &sim->run));
   PetscCall(DomainSetFromOptions(sim->comm, &sim->domain));
-  PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
-  PetscCall(GridsCreate(sim->comm, sim->domain, sim->props.d_max, &sim->grids));
-  PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
-  PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));
-  PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  if (sim->run.particles) PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
+  PetscCall(GridsCreate(sim->comm, sim->domain, sim->run.particles ? sim->props.d_max : 0.0, &sim->grids));
+  if (sim->run.particles) {
+    PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
+    PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));
+    PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  }
+  if (sim->run.fluid) {
+    PetscCall(FluidCreate(sim->comm, sim->domain, sim->grids.fluid, &sim->log, &sim->fluid));
+    PetscCall(FluidSetUp(sim->fluid));
+  }
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
+  sim->monitor.particles = sim->run.particles;
+  sim->monitor.fluid     = sim->run.fluid;
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, &sim->monitor));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
-                                   (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
-                                   (double)sim->inserted.solid_fraction_region));
-  PetscCall(DemParamsView(sim->dem->par, viewer));
-
-  PetscCall(DemSetUp(sim->dem, sim->swarm));
+  if (sim->dem) {
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
+                                     (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
+                                     (double)sim->inserted.solid_fraction_region));
+    PetscCall(DemParamsView(sim->dem->par, viewer));
+    PetscCall(DemSetUp(sim->dem, sim->swarm));
+  }
+  if (sim->fluid) {
+    PetscCall(FluidView(sim->fluid, viewer));
+    if (sim->dem) {
+      // both on (not coupled yet): the gas step is a whole number of DEM steps and must respect the gas limits
+      const PetscReal dt_gas = sim->dem->par.dt * sim->run.couple_substeps;
+      PetscReal       dt_max;
+      PetscCheck(FluidFixedTimeStep(sim->fluid) == 0, sim->comm, PETSC_ERR_USER_INPUT,
+                 "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
+      PetscCall(FluidMaxTimeStep(sim->fluid, &dt_max));
+      PetscCheck(dt_gas <= dt_max, sim->comm, PETSC_ERR_USER_INPUT,
+                 "-couple_substeps %d: the gas step %g s (DEM step %g s x %d) exceeds the gas limit %g s; use at most %d substeps", (int)sim->run.couple_substeps,
+                 (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max, (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
+      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n", (int)sim->run.couple_substeps,
+                                       (double)dt_gas));
+    }
+  }
   sim->wall_setup = MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+// Length of the next gas step when the gas runs alone: -fluid_dt or its limits, ending on t_final.
+PetscErrorCode GasOnlyStep(Simulation *sim, PetscReal *dt)
+{
+  PetscFunctionBeginUser;
+  *dt = FluidFixedTimeStep(sim->fluid);
+  if (*dt == 0) PetscCall(FluidMaxTimeStep(sim->fluid, dt));
+  if (sim->time + *dt > sim->run.t_final * (1 - 1e-12)) *dt = PetscMax(sim->run.t_final - sim->time, 1e-300);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
+{
+  PetscFunctionBeginUser;
+  if (sim->dem) PetscCall(ComputeParticleTotals(sim->dem, tot));
+  PetscCall(MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
 PetscErrorCode SimulationRun(Simulation *sim)
 {
-  Dem           *dem = sim->dem;
-  const PetscReal dt = dem->par.dt;
-  const PetscInt64 nsteps_time = (PetscInt64)PetscCeilReal(sim->run.t_final / dt - 1e-9);
-  const PetscInt64 nsteps = sim->run.max_steps >= 0 ? PetscMin(nsteps_time, (PetscInt64)sim->run.max_steps) : nsteps_time;
-  ParticleTotals  tot;
-  const double    t0 = MPI_Wtime();
-  double          last_progress = t0;
+  Dem             *dem = sim->dem;
+  const PetscInt   sub = (dem && sim->fluid) ? sim->run.couple_substeps : 1; // DEM steps per gas step
+  const PetscReal  dt_dem = dem ? dem->par.dt : 0.0;
+  const PetscInt64 nsteps_time = dem ? (PetscInt64)PetscCeilReal(sim->run.t_final / dt_dem - 1e-9) : -1;
+  const PetscInt64 nsteps = sim->run.max_steps >= 0 && dem ? PetscMin(nsteps_time, (PetscInt64)sim->run.max_steps) : nsteps_time;
+  ParticleTotals   tot;
+  const double     t0 = MPI_Wtime();
+  double           last_progress = t0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)(nsteps * dt)));
+  if (dem) PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)(nsteps * dt_dem)));
+  else PetscCall(PetscPrintf(sim->comm, "Running the gas to t = %.6g s%s\n", (double)sim->run.t_final, sim->run.max_steps >= 0 ? " (or -max_steps)" : ""));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-  PetscCall(ComputeParticleTotals(dem, &tot));
-  PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
-  PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+  PetscCall(WriteMonitorRow(sim, &tot));
+  if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   sim->monitor.next = sim->time + sim->monitor.interval;
 
   const PetscInt64 step0 = sim->step;
   const PetscReal  time0 = sim->time;
-  while (sim->step - step0 < nsteps) {
-    PetscCall(DemStep(dem));
-    sim->step++;
-    sim->time = time0 + (PetscReal)(sim->step - step0) * dt;
-
-    PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-    PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
-    if (sim->time >= sim->monitor.next - 0.5 * dt || sim->step - step0 == nsteps) {
-      PetscCall(ComputeParticleTotals(dem, &tot));
-      PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
-      while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
+  for (;;) {
+    // stop: the DEM counts its steps (as before the gas existed), the gas alone its time and -max_steps
+    if (dem ? sim->step - step0 >= nsteps
+            : (sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps)))
+      break;
+    PetscReal dt = dt_dem;
+    if (sim->fluid) {
+      PetscReal dt_gas = sub * dt_dem;
+      if (!dem) PetscCall(GasOnlyStep(sim, &dt_gas));
+      PetscCall(FluidStep(sim->fluid, dt_gas));
+      if (!dem) dt = dt_gas;
     }
-    PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
+    for (PetscInt s = 0; s < (dem ? sub : 1); ++s) {
+      if (dem) {
+        PetscCall(DemStep(dem));
+        sim->step++;
+        sim->time = time0 + (PetscReal)(sim->step - step0) * dt;
+      } else {
+        sim->step++;
+        sim->time += dt;
+      }
+      PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
+      if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+      const bool last = dem ? sim->step - step0 == nsteps
+                            : (sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps));
+      if (sim->time >= sim->monitor.next - 0.5 * dt || last) {
+        PetscCall(WriteMonitorRow(sim, &tot));
+        while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
+      }
+      PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
+      if (dem && sim->step - step0 == nsteps) break;
+    }
 
     // Progress: rank 0 decides every 64 steps, so that all ranks take the same branch.
     if (sim->run.progress_interval > 0 && (sim->step - step0) % 64 == 0) {
       double now = MPI_Wtime();
       PetscCallMPI(MPI_Bcast(&now, 1, MPI_DOUBLE, 0, sim->comm));
       if (now - last_progress >= sim->run.progress_interval) {
-        const double elapsed = now - t0, done = (double)(sim->step - step0) / (double)nsteps;
+        const double elapsed = now - t0, done = dem ? (double)(sim->step - step0) / (double)nsteps : (double)((sim->time - time0) / (sim->run.t_final - time0));
         PetscCall(PetscPrintf(sim->comm, "  t = %.5g s (%4.1f%%), step %lld, %.3g steps/s, %s elapsed, about %s left\n", (double)sim->time, 100.0 * done,
                               (long long)sim->step, (double)(sim->step - step0) / elapsed, Duration(elapsed).c_str(),
                               Duration(elapsed * (1.0 - done) / PetscMax(done, 1e-12)).c_str()));
@@ -153,14 +232,23 @@ PetscErrorCode SimulationRun(Simulation *sim)
   sim->wall_run = MPI_Wtime() - t0;
 
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-  if (sim->run.write_particles) PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+  if (dem && sim->run.write_particles) PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+  if (sim->fluid && FluidWantsCellsCSV(sim->fluid)) PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(PetscPrintf(sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-                        (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
-                        sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
+  if (dem)
+    PetscCall(PetscPrintf(sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
+                          (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+                          sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
+  if (sim->fluid) {
+    const FluidStats &fs = FluidGetStats(sim->fluid);
+    PetscCall(PetscPrintf(sim->comm,
+                          "Gas: %lld steps, t = %.6g s, %.3f s wall; pressure: %.1f iterations and %.3g ms per solve; max |div(eps u)| %.3g 1/s; in %.6g, out %.6g m^3/s\n",
+                          (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
+                          fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -169,6 +257,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscFunctionBeginUser;
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
+  PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));
   PetscCall(DemDestroy(&(*sim)->dem));
   PetscCall(GridsDestroy(&(*sim)->grids));
