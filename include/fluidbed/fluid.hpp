@@ -26,7 +26,8 @@ struct FluidStats {
   PetscInt64 steps = 0;
   PetscReal  dt = 0, dt_conv = 0, dt_visc = 0; // last step and its limits (s)
   PetscInt   ksp_its = 0;                      // last pressure solve
-  PetscReal  ksp_rnorm = 0;                    // its final residual norm (KSP's norm type)
+  PetscReal  ksp_rnorm = 0;                    // its final residual norm (KSP's norm type; CG: unpreconditioned by default)
+  PetscReal  rhs_scale = 0;                    // ||b||_2 / V of its right-hand side (1/s): div(eps u) <= rtol x this in every cell
   PetscReal  ksp_time = 0;                     // its wall time (s), PC set-up included
   PetscInt64 solves = 0, ksp_its_total = 0, pc_setups = 0;
   PetscReal  ksp_time_total = 0;

@@ -208,7 +208,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
       if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
       const bool last = dem ? sim->step - step0 == nsteps
                             : (sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps));
-      if (sim->time >= sim->monitor.next - 0.5 * dt || last) {
+      if (sim->monitor.interval == 0 || sim->time >= sim->monitor.next - 0.5 * dt || last) {
         PetscCall(WriteMonitorRow(sim, &tot));
         while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
       }

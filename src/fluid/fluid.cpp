@@ -92,6 +92,9 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   n = 5;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: x,y,z,radius [m],eps", "m", Closed(-100.0, 100.0),
                              f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
+  n = 3;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere_velocity", "Velocity of the frozen sphere: its void fraction field moves with it", "m/s",
+                             Closed(-1e3, 1e3), f->sphere_velocity, &n, PETSC_TRUE, NULL));
   n = 2;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_packed_bed", "Frozen packed bed: cells below height [m] get void fraction eps: height,eps", "m",
                              Closed(0.0, 100.0), f->eps_bed, &n, PETSC_TRUE, &f->has_bed));
@@ -108,8 +111,8 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscFunctionReturn(0);
 }
 
-// Frozen void fraction: uniform, then the packed bed, then the sphere.
-PetscErrorCode SetFrozenVoidFraction(Fluid *f)
+// Frozen void fraction at time t: uniform, then the packed bed, then the sphere (centre moving with its velocity).
+PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
 {
   FieldView e;
 
@@ -123,7 +126,10 @@ PetscErrorCode SetFrozenVoidFraction(Fluid *f)
         PetscScalar     val  = f->eps_uniform;
         for (int a = 0; a < 3; ++a) x[a] = f->dom->lo[a] + (c[a] + 0.5) * f->h[a];
         if (f->has_bed && x[1] < f->dom->lo[1] + f->eps_bed[0]) val = f->eps_bed[1];
-        for (int a = 0; a < f->dim; ++a) r2 += (x[a] - f->eps_sphere[a]) * (x[a] - f->eps_sphere[a]);
+        for (int a = 0; a < f->dim; ++a) {
+          const PetscReal d = x[a] - (f->eps_sphere[a] + f->sphere_velocity[a] * t);
+          r2 += d * d;
+        }
         if (f->has_sphere && r2 < f->eps_sphere[3] * f->eps_sphere[3]) val = f->eps_sphere[4];
         e(i, j, k) = val;
       }
@@ -223,7 +229,7 @@ PetscErrorCode FluidSetUp(Fluid *f)
   kernels::StepRates r;
 
   PetscFunctionBeginUser;
-  PetscCall(SetFrozenVoidFraction(f));
+  PetscCall(SetFrozenVoidFraction(f, 0.0));
   PetscCall(VecCopy(f->eps, f->eps_old));
   PetscCall(ScatterScalars(f));
   PetscCall(SetInitialVelocity(f));
@@ -262,6 +268,8 @@ PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
 {
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(f->log, PHASE_FLUID));
+  if (f->has_sphere && (f->sphere_velocity[0] != 0 || f->sphere_velocity[1] != 0 || f->sphere_velocity[2] != 0))
+    PetscCall(SetFrozenVoidFraction(f, f->time + dt)); // gas-only scenes: the void fraction at the end of the step
   PetscCall(ScatterScalars(f));
   PetscCall(FluidScatterVelocity(f));
   PetscCall(FluidPredictor(f, dt));
@@ -282,6 +290,7 @@ PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
   PetscCall(VecAXPBY(f->p, f->rho / dt, 0.0, f->phi));
   f->stats.dt = dt;
   f->stats.steps++;
+  f->time += dt;
   PetscCall(PhaseEnd(f->log, PHASE_FLUID));
   PetscFunctionReturn(0);
 }

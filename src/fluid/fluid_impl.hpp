@@ -66,6 +66,8 @@ struct Fluid {
   PetscReal         eps_uniform = 1.0;
   PetscReal         eps_sphere[5]{0, 0, 0, 0, 1};
   PetscBool         has_sphere = PETSC_FALSE;
+  PetscReal         sphere_velocity[3]{0, 0, 0}; // m/s: the frozen sphere moves (eps changes every step)
+  PetscReal         time = 0;                    // s, gas time (moves the sphere)
   PetscReal         eps_bed[2]{0, 1};
   PetscBool         has_bed = PETSC_FALSE;
 

@@ -227,6 +227,13 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(KSPSetOperators(f->ksp, f->A, f->A));
   PetscCall(KSPSetFromOptions(f->ksp));
   PetscCall(AdaptPreconditioner(f));
+  {
+    // CG's residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself
+    PetscBool is_cg, norm_set;
+    PetscCall(PetscObjectTypeCompare((PetscObject)f->ksp, KSPCG, &is_cg));
+    PetscCall(PetscOptionsHasName(NULL, "fluid_p_", "-ksp_norm_type", &norm_set));
+    if (is_cg && !norm_set) PetscCall(KSPSetNormType(f->ksp, KSP_NORM_UNPRECONDITIONED));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -271,6 +278,8 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->u_loc, &U));
   if (f->nullspace) PetscCall(MatNullSpaceRemove(f->nullspace, f->rhs));
+  PetscCall(VecNorm(f->rhs, NORM_2, &f->stats.rhs_scale));
+  f->stats.rhs_scale /= f->vol;
 
   const double t0 = MPI_Wtime();
   PetscCall(KSPSetUp(f->ksp));
