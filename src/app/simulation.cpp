@@ -129,7 +129,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
                  "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
       PetscCall(FluidMaxTimeStep(sim->fluid, &dt_max));
       PetscCheck(dt_gas <= dt_max, sim->comm, PETSC_ERR_USER_INPUT,
-                 "-couple_substeps %d: the gas step %g s (DEM step %g s x %d) exceeds the gas limit %g s; use at most %d substeps", (int)sim->run.couple_substeps,
+                 "-couple_substeps %d: the gas step %.6g s (DEM step %.6g s x %d) exceeds the gas limit %.6g s; use at most %d substeps", (int)sim->run.couple_substeps,
                  (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max, (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
       PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n", (int)sim->run.couple_substeps,
                                        (double)dt_gas));

@@ -71,10 +71,10 @@ PetscErrorCode FluidReadOptions(Fluid *f)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(f->comm, "fluid_", "Gas phase: volume-averaged incompressible flow (seed eq. 2.19-2.20)", "Fluid");
-  PetscCall(PetscOptionsEnum("-model", "Momentum equation: B (-grad p, rho_g g; the seed's) or A (-eps grad p, eps rho_g g)", "", FluidModelTypes, model, &model, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-model", "Momentum equation: B (-grad p, rho_g g; the seed's) or A (-eps grad p, eps rho_g g)", FluidModelTypes, &model, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-rho", "Gas density", "kg/m^3", Positive(1e5), &f->rho, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Gas dynamic viscosity", "Pa s", Positive(1e3), &f->mu, NULL));
-  PetscCall(PetscOptionsEnum("-limiter", "TVD limiter of the convective fluxes", "", FluidLimiterTypes, lim, &lim, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-limiter", "TVD limiter of the convective fluxes", FluidLimiterTypes, &lim, NULL));
   PetscCall(PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
   n = 3;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force", "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)",
@@ -102,11 +102,11 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   f->model   = (FluidModel)model;
   f->limiter = (kernels::Limiter)lim;
   PetscCheck(!f->has_sphere || (f->eps_sphere[4] > 0 && f->eps_sphere[4] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fluid_eps_sphere: void fraction %g is out of range: allowed (0, 1]", (double)f->eps_sphere[4]);
-  PetscCheck(!f->has_sphere || f->eps_sphere[3] > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fluid_eps_sphere: radius %g m is out of range: allowed (0, inf)",
+             "-fluid_eps_sphere: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_sphere[4]);
+  PetscCheck(!f->has_sphere || f->eps_sphere[3] > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fluid_eps_sphere: radius %.6g m is out of range: allowed (0, inf)",
              (double)f->eps_sphere[3]);
   PetscCheck(!f->has_bed || (f->eps_bed[1] > 0 && f->eps_bed[1] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fluid_eps_packed_bed: void fraction %g is out of range: allowed (0, 1]", (double)f->eps_bed[1]);
+             "-fluid_eps_packed_bed: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_bed[1]);
   (void)set;
   PetscFunctionReturn(0);
 }
@@ -244,7 +244,7 @@ PetscErrorCode FluidSetUp(Fluid *f)
     PetscReal dt_max;
     PetscCall(FluidMaxTimeStep(f, &dt_max));
     PetscCheck(f->dt_fixed <= dt_max * (1 + 1e-12), f->comm, PETSC_ERR_USER_INPUT,
-               "-fluid_dt %g s exceeds the gas time-step limit %g s (convective %g s, viscous %g s at -fluid_cfl %g)", (double)f->dt_fixed, (double)dt_max,
+               "-fluid_dt %.6g s exceeds the gas time-step limit %.6g s (convective %.6g s, viscous %.6g s at -fluid_cfl %.6g)", (double)f->dt_fixed, (double)dt_max,
                (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)f->cfl);
   }
   PetscFunctionReturn(0);

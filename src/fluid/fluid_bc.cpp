@@ -23,9 +23,9 @@ PetscErrorCode ReadJets(Fluid *f, const PetscReal *vals, PetscInt n)
   PetscCheck(n % 3 == 0, f->comm, PETSC_ERR_USER_INPUT, "-inlet_jets takes centre,width,velocity for each slit (a multiple of 3 values), got %d values", (int)n);
   for (PetscInt s = 0; s < n / 3; ++s) {
     const PetscReal c = vals[3 * s], w = vals[3 * s + 1], v = vals[3 * s + 2];
-    PetscCheck(w > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d has width %g m: allowed (0, %g] m", (int)s + 1, (double)w, (double)f->dom->len[0]);
+    PetscCheck(w > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d has width %.6g m: allowed (0, %.6g] m", (int)s + 1, (double)w, (double)f->dom->len[0]);
     const kernels::JetSnap snap = kernels::snap_jet(c, w, x0, h, f->n[0]);
-    PetscCheck(snap.inside, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d (centre %g mm, width %g mm) extends beyond the bottom, x = %g..%g mm", (int)s + 1,
+    PetscCheck(snap.inside, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d (centre %.6g mm, width %.6g mm) extends beyond the bottom, x = %.6g..%.6g mm", (int)s + 1,
                1e3 * c, 1e3 * w, 1e3 * x0, 1e3 * f->dom->hi[0]);
     if (!snap.ok) {
       if (snap.centre_ok)
@@ -62,11 +62,11 @@ PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
     const std::string help = std::string("Gas condition on the ") + FaceNames[face] + " face: noslip or freeslip wall" + (face == FACE_YHI ? ", outlet (uniform, mass-conserving: the seed's) or pressure (p = 0)" : "");
     PetscEnum         type = (PetscEnum)f->bc[face];
     PetscInt          n    = 3;
-    PetscCall(PetscOptionsEnum(name.c_str(), help.c_str(), "", FluidBCTypes, type, &type, &set_bc[face]));
+    PetscCall(OptionsEnum(PetscOptionsObject, name.c_str(), help.c_str(), FluidBCTypes, &type, &set_bc[face]));
     f->bc[face] = (FluidBC)type;
     PetscCall(OptionsRealArray(PetscOptionsObject, vname.c_str(), "Velocity ux,uy,uz of a moving no-slip wall (tangential components only)", "m/s",
                                Closed(-1e4, 1e4), f->wall_velocity[face], &n, PETSC_TRUE, NULL));
-    PetscCheck(f->wall_velocity[face][face / 2] == 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the wall-normal component %g m/s must be 0 (walls do not move through themselves)",
+    PetscCheck(f->wall_velocity[face][face / 2] == 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the wall-normal component %.6g m/s must be 0 (walls do not move through themselves)",
                OptionName(PetscOptionsObject, vname.c_str()), (double)f->wall_velocity[face][face / 2]);
     PetscCheck(!set_bc[face] || !f->periodic[face / 2], f->comm, PETSC_ERR_USER_INPUT, "%s: the face is periodic (-domain_periodic_%c)",
                OptionName(PetscOptionsObject, name.c_str()), "xyz"[face / 2]);

@@ -228,11 +228,18 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(KSPSetFromOptions(f->ksp));
   PetscCall(AdaptPreconditioner(f));
   {
-    // CG's residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself
-    PetscBool is_cg, norm_set;
+    // The residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself: CG
+    // tracks it with the preconditioner on the left; the GMRES and BiCGStab families need it on the right. Other
+    // Krylov methods keep their defaults, as do runs that set -fluid_p_ksp_norm_type or -fluid_p_ksp_pc_side.
+    PetscBool is_cg, is_right, norm_set, side_set;
     PetscCall(PetscObjectTypeCompare((PetscObject)f->ksp, KSPCG, &is_cg));
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)f->ksp, &is_right, KSPGMRES, KSPFGMRES, KSPLGMRES, KSPBCGS, KSPBCGSL, ""));
     PetscCall(PetscOptionsHasName(NULL, "fluid_p_", "-ksp_norm_type", &norm_set));
-    if (is_cg && !norm_set) PetscCall(KSPSetNormType(f->ksp, KSP_NORM_UNPRECONDITIONED));
+    PetscCall(PetscOptionsHasName(NULL, "fluid_p_", "-ksp_pc_side", &side_set));
+    if (!norm_set && !side_set && (is_cg || is_right)) {
+      if (is_right) PetscCall(KSPSetPCSide(f->ksp, PC_RIGHT));
+      PetscCall(KSPSetNormType(f->ksp, KSP_NORM_UNPRECONDITIONED));
+    }
   }
   PetscFunctionReturn(0);
 }
