@@ -25,15 +25,15 @@ struct JsonWriter;
 struct FluidStats {
   PetscInt64 steps = 0;
   PetscReal  dt = 0, dt_conv = 0, dt_visc = 0; // last step and its limits (s)
-  PetscInt   ksp_its = 0;                      // last pressure solve
+  PetscInt   ksp_its   = 0;                    // last pressure solve
   PetscReal  ksp_rnorm = 0;                    // its final residual norm (KSP's norm type; CG: unpreconditioned by default)
   PetscReal  rhs_scale = 0;                    // ||b||_2 / V of its right-hand side (1/s): div(eps u) <= rtol x this in every cell
-  PetscReal  ksp_time = 0;                     // its wall time (s), PC set-up included
+  PetscReal  ksp_time  = 0;                    // its wall time (s), PC set-up included
   PetscInt64 solves = 0, ksp_its_total = 0, pc_setups = 0;
   PetscReal  ksp_time_total = 0;
-  PetscReal  max_div = 0;                      // max over cells of |div(eps u) + d(eps)/dt| after the projection (1/s)
-  PetscReal  max_speed = 0;                    // m/s, largest face velocity
-  PetscReal  inflow = 0, outflow = 0;          // m^3/s through the bottom (in) and the top (out)
+  PetscReal  max_div        = 0;      // max over cells of |div(eps u) + d(eps)/dt| after the projection (1/s)
+  PetscReal  max_speed      = 0;      // m/s, largest face velocity
+  PetscReal  inflow = 0, outflow = 0; // m^3/s through the bottom (in) and the top (out)
 };
 
 // Reads the -fluid_*, -fluid_bc_* and -inlet_* options and creates the fields; grid is the fine fluid grid.
@@ -43,7 +43,7 @@ PetscErrorCode FluidSetUp(Fluid *fluid);
 // Largest stable step for the current velocity and void fraction (CFL and viscous limits), s.
 PetscErrorCode FluidMaxTimeStep(Fluid *fluid, PetscReal *dt);
 // The fixed step of -fluid_dt, or 0 when the step follows the limits.
-PetscReal      FluidFixedTimeStep(const Fluid *fluid);
+PetscReal FluidFixedTimeStep(const Fluid *fluid);
 // Prints the gas properties, boundary conditions and the time-step limits.
 PetscErrorCode FluidView(Fluid *fluid, PetscViewer viewer);
 // One step of length dt: momentum predictor, pressure solve, correction.
@@ -56,7 +56,7 @@ PetscErrorCode FluidGetMomentumSource(Fluid *fluid, Vec *source);
 PetscErrorCode FluidGetCellVelocity(Fluid *fluid, Vec *velocity); // computed from the faces at each call
 PetscErrorCode FluidGetPressure(Fluid *fluid, Vec *p);
 // The DMDAs of the cell fields above: dof 1 (eps, pressure) and dof dim (velocity, source).
-PetscErrorCode FluidGetCellDMs(Fluid *fluid, DM *scalar, DM *vector);
+PetscErrorCode    FluidGetCellDMs(Fluid *fluid, DM *scalar, DM *vector);
 const FluidStats &FluidGetStats(const Fluid *fluid);
 
 // fluid_cells.csv in natural ordering, written by rank 0: i,j,k,x,y,z,eps,p,u,v,w (cell averages),
@@ -65,6 +65,6 @@ PetscErrorCode FluidWriteCellsCSV(Fluid *fluid, const char *path);
 // The gas keys of summary.json: steps, time step and limits, pressure iterations and time per solve, flow rates.
 PetscErrorCode FluidAddSummary(Fluid *fluid, JsonWriter *json);
 // Whether -fluid_output_cells asks for that file.
-PetscBool      FluidWantsCellsCSV(const Fluid *fluid);
+PetscBool FluidWantsCellsCSV(const Fluid *fluid);
 
 } // namespace fluidbed

@@ -34,7 +34,8 @@ struct Monitor {
 
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, Monitor *m);
 // One row: the particle columns when m->particles, the gas columns (fluid, the last gas step) when m->fluid.
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t, const FluidStats *fluid = nullptr);
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
+                            const FluidStats *fluid = nullptr);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
 PetscErrorCode MonitorDestroy(Monitor *m);
 

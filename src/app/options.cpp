@@ -97,7 +97,8 @@ PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsEnum(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char *const list[], PetscEnum *value, PetscBool *set)
+PetscErrorCode OptionsEnum(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char *const list[],
+                           PetscEnum *value, PetscBool *set)
 {
   char      buf[256];
   PetscBool given = PETSC_FALSE, found = PETSC_FALSE;
@@ -112,7 +113,8 @@ PetscErrorCode OptionsEnum(PetscOptionItems *PetscOptionsObject, const char name
       while (list[n]) ++n;
       std::string names;
       for (PetscInt i = 0; i < n - 2; ++i) names += (names.empty() ? "" : ", ") + std::string(list[i]);
-      SETERRQ(PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not one of: %s", OptionName(PetscOptionsObject, name), buf, names.c_str());
+      SETERRQ(PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not one of: %s", OptionName(PetscOptionsObject, name), buf,
+              names.c_str());
     }
   }
   PetscCall(PetscOptionsEnum_Private(PetscOptionsObject, name, text, "", list, *value, value, set));

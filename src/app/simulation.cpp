@@ -18,10 +18,11 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir, r->output_dir,
                                sizeof(r->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles, &r->write_particles, NULL));
-  PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid, &r->fluid, NULL));
+  PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid,
+                             &r->fluid, NULL));
   PetscCall(PetscOptionsBool("-particles", "Turn the particles (DEM) on", "", r->particles, &r->particles, NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1, 100000,
-                       &r->couple_substeps, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1,
+                       100000, &r->couple_substeps, NULL));
   PetscOptionsEnd();
   PetscCheck(r->fluid || r->particles, comm, PETSC_ERR_USER_INPUT, "-particles 0 needs -fluid: there is nothing to simulate");
   PetscFunctionReturn(0);
@@ -113,9 +114,10 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
   if (sim->dem) {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
-                                     (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
-                                     (double)sim->inserted.solid_fraction_region));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
+      (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
+      (double)sim->inserted.solid_fraction_region));
     PetscCall(DemParamsView(sim->dem->par, viewer));
     PetscCall(DemSetUp(sim->dem, sim->swarm));
   }
@@ -129,10 +131,11 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
                  "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
       PetscCall(FluidMaxTimeStep(sim->fluid, &dt_max));
       PetscCheck(dt_gas <= dt_max, sim->comm, PETSC_ERR_USER_INPUT,
-                 "-couple_substeps %d: the gas step %.6g s (DEM step %.6g s x %d) exceeds the gas limit %.6g s; use at most %d substeps", (int)sim->run.couple_substeps,
-                 (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max, (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
-      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n", (int)sim->run.couple_substeps,
-                                       (double)dt_gas));
+                 "-couple_substeps %d: the gas step %.6g s (DEM step %.6g s x %d) exceeds the gas limit %.6g s; use at most %d substeps",
+                 (int)sim->run.couple_substeps, (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max,
+                 (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
+      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n",
+                                       (int)sim->run.couple_substeps, (double)dt_gas));
     }
   }
   sim->wall_setup = MPI_Wtime() - t0;
@@ -155,7 +158,8 @@ PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
 {
   PetscFunctionBeginUser;
   if (sim->dem) PetscCall(ComputeParticleTotals(sim->dem, tot));
-  PetscCall(MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr));
+  PetscCall(
+    MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -163,18 +167,20 @@ PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
 
 PetscErrorCode SimulationRun(Simulation *sim)
 {
-  Dem             *dem = sim->dem;
-  const PetscInt   sub = (dem && sim->fluid) ? sim->run.couple_substeps : 1; // DEM steps per gas step
-  const PetscReal  dt_dem = dem ? dem->par.dt : 0.0;
+  Dem             *dem         = sim->dem;
+  const PetscInt   sub         = (dem && sim->fluid) ? sim->run.couple_substeps : 1; // DEM steps per gas step
+  const PetscReal  dt_dem      = dem ? dem->par.dt : 0.0;
   const PetscInt64 nsteps_time = dem ? (PetscInt64)PetscCeilReal(sim->run.t_final / dt_dem - 1e-9) : -1;
-  const PetscInt64 nsteps = sim->run.max_steps >= 0 && dem ? PetscMin(nsteps_time, (PetscInt64)sim->run.max_steps) : nsteps_time;
+  const PetscInt64 nsteps      = sim->run.max_steps >= 0 && dem ? PetscMin(nsteps_time, (PetscInt64)sim->run.max_steps) : nsteps_time;
   ParticleTotals   tot;
-  const double     t0 = MPI_Wtime();
+  const double     t0            = MPI_Wtime();
   double           last_progress = t0;
 
   PetscFunctionBeginUser;
   if (dem) PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)(nsteps * dt_dem)));
-  else PetscCall(PetscPrintf(sim->comm, "Running the gas to t = %.6g s%s\n", (double)sim->run.t_final, sim->run.max_steps >= 0 ? " (or -max_steps)" : ""));
+  else
+    PetscCall(PetscPrintf(sim->comm, "Running the gas to t = %.6g s%s\n", (double)sim->run.t_final,
+                          sim->run.max_steps >= 0 ? " (or -max_steps)" : ""));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteMonitorRow(sim, &tot));
   if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
@@ -206,8 +212,9 @@ PetscErrorCode SimulationRun(Simulation *sim)
       }
       PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
       if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
-      const bool last = dem ? sim->step - step0 == nsteps
-                            : (sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps));
+      const bool last =
+        dem ? sim->step - step0 == nsteps
+            : (sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps));
       if (sim->monitor.interval == 0 || sim->time >= sim->monitor.next - 0.5 * dt || last) {
         PetscCall(WriteMonitorRow(sim, &tot));
         while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
@@ -221,7 +228,8 @@ PetscErrorCode SimulationRun(Simulation *sim)
       double now = MPI_Wtime();
       PetscCallMPI(MPI_Bcast(&now, 1, MPI_DOUBLE, 0, sim->comm));
       if (now - last_progress >= sim->run.progress_interval) {
-        const double elapsed = now - t0, done = dem ? (double)(sim->step - step0) / (double)nsteps : (double)((sim->time - time0) / (sim->run.t_final - time0));
+        const double elapsed = now - t0,
+                     done = dem ? (double)(sim->step - step0) / (double)nsteps : (double)((sim->time - time0) / (sim->run.t_final - time0));
         PetscCall(PetscPrintf(sim->comm, "  t = %.5g s (%4.1f%%), step %lld, %.3g steps/s, %s elapsed, about %s left\n", (double)sim->time, 100.0 * done,
                               (long long)sim->step, (double)(sim->step - step0) / elapsed, Duration(elapsed).c_str(),
                               Duration(elapsed * (1.0 - done) / PetscMax(done, 1e-12)).c_str()));
@@ -232,22 +240,28 @@ PetscErrorCode SimulationRun(Simulation *sim)
   sim->wall_run = MPI_Wtime() - t0;
 
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-  if (dem && sim->run.write_particles) PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
-  if (sim->fluid && FluidWantsCellsCSV(sim->fluid)) PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
+  if (dem && sim->run.write_particles)
+    PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+  if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
+    PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   if (dem)
-    PetscCall(PetscPrintf(sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-                          (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
-                          sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
+    PetscCall(PetscPrintf(
+      sim->comm,
+      "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
+      (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+      sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
   if (sim->fluid) {
     const FluidStats &fs = FluidGetStats(sim->fluid);
-    PetscCall(PetscPrintf(sim->comm,
-                          "Gas: %lld steps, t = %.6g s, %.3f s wall; pressure: %.1f iterations and %.3g ms per solve; max |div(eps u)| %.3g 1/s; in %.6g, out %.6g m^3/s\n",
-                          (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
-                          fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
+    PetscCall(PetscPrintf(
+      sim->comm,
+      "Gas: %lld steps, t = %.6g s, %.3f s wall; pressure: %.1f iterations and %.3g ms per solve; max |div(eps u)| %.3g 1/s; in %.6g, out "
+      "%.6g m^3/s\n",
+      (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
+      fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
   }
   PetscFunctionReturn(0);
 }

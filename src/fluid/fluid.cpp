@@ -56,8 +56,8 @@ PetscErrorCode CreateLayoutDA(Fluid *f, PetscInt dof, DMDAStencilType st, PetscI
   if (f->dim == 2) {
     PetscCall(DMDACreate2d(f->comm, bt[0], bt[1], st, f->n[0], f->n[1], procs[0], procs[1], dof, sw, own[0].data(), own[1].data(), da));
   } else {
-    PetscCall(DMDACreate3d(f->comm, bt[0], bt[1], bt[2], st, f->n[0], f->n[1], f->n[2], procs[0], procs[1], procs[2], dof, sw, own[0].data(), own[1].data(),
-                           own[2].data(), da));
+    PetscCall(DMDACreate3d(f->comm, bt[0], bt[1], bt[2], st, f->n[0], f->n[1], f->n[2], procs[0], procs[1], procs[2], dof, sw,
+                           own[0].data(), own[1].data(), own[2].data(), da));
   }
   PetscCall(DMSetUp(*da));
   PetscFunctionReturn(0);
@@ -71,40 +71,49 @@ PetscErrorCode FluidReadOptions(Fluid *f)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(f->comm, "fluid_", "Gas phase: volume-averaged incompressible flow (seed eq. 2.19-2.20)", "Fluid");
-  PetscCall(OptionsEnum(PetscOptionsObject, "-model", "Momentum equation: B (-grad p, rho_g g; the seed's) or A (-eps grad p, eps rho_g g)", FluidModelTypes, &model, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-model", "Momentum equation: B (-grad p, rho_g g; the seed's) or A (-eps grad p, eps rho_g g)",
+                        FluidModelTypes, &model, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-rho", "Gas density", "kg/m^3", Positive(1e5), &f->rho, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Gas dynamic viscosity", "Pa s", Positive(1e3), &f->mu, NULL));
   PetscCall(OptionsEnum(PetscOptionsObject, "-limiter", "TVD limiter of the convective fluxes", FluidLimiterTypes, &lim, NULL));
-  PetscCall(PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
+  PetscCall(
+    PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
   n = 3;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force", "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)",
-                             "N/m^3", Closed(-1e9, 1e9), f->body_force, &n, PETSC_TRUE, NULL));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force",
+                             "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)", "N/m^3",
+                             Closed(-1e9, 1e9), f->body_force, &n, PETSC_TRUE, NULL));
   n = 3;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-initial_velocity", "Initial superficial gas velocity ux,uy,uz", "m/s", Closed(-1e4, 1e4), f->initial_velocity, &n,
-                             PETSC_TRUE, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Fixed gas time step (0: from the CFL and viscous limits at every step)", "s", NonNegative(1e3), &f->dt_fixed, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-cfl", "Fraction of the combined convective + viscous explicit limit used as the step", "", Closed(0.01, 1.0), &f->cfl,
-                        NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse", "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A)", 1, 1000000,
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-initial_velocity", "Initial superficial gas velocity ux,uy,uz", "m/s", Closed(-1e4, 1e4),
+                             f->initial_velocity, &n, PETSC_TRUE, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Fixed gas time step (0: from the CFL and viscous limits at every step)", "s",
+                        NonNegative(1e3), &f->dt_fixed, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-cfl", "Fraction of the combined convective + viscous explicit limit used as the step", "",
+                        Closed(0.01, 1.0), &f->cfl, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse",
+                       "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A)", 1, 1000000,
                        &f->pc_reuse, NULL));
-  PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells, &f->output_cells, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "", {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
+  PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells,
+                             &f->output_cells, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",
+                        {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
   n = 5;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: x,y,z,radius [m],eps", "m", Closed(-100.0, 100.0),
-                             f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: x,y,z,radius [m],eps", "m",
+                             Closed(-100.0, 100.0), f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
   n = 3;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere_velocity", "Velocity of the frozen sphere: its void fraction field moves with it", "m/s",
-                             Closed(-1e3, 1e3), f->sphere_velocity, &n, PETSC_TRUE, NULL));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere_velocity",
+                             "Velocity of the frozen sphere: its void fraction field moves with it", "m/s", Closed(-1e3, 1e3),
+                             f->sphere_velocity, &n, PETSC_TRUE, NULL));
   n = 2;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_packed_bed", "Frozen packed bed: cells below height [m] get void fraction eps: height,eps", "m",
-                             Closed(0.0, 100.0), f->eps_bed, &n, PETSC_TRUE, &f->has_bed));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_packed_bed",
+                             "Frozen packed bed: cells below height [m] get void fraction eps: height,eps", "m", Closed(0.0, 100.0),
+                             f->eps_bed, &n, PETSC_TRUE, &f->has_bed));
   PetscOptionsEnd();
   f->model   = (FluidModel)model;
   f->limiter = (kernels::Limiter)lim;
   PetscCheck(!f->has_sphere || (f->eps_sphere[4] > 0 && f->eps_sphere[4] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fluid_eps_sphere: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_sphere[4]);
-  PetscCheck(!f->has_sphere || f->eps_sphere[3] > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fluid_eps_sphere: radius %.6g m is out of range: allowed (0, inf)",
-             (double)f->eps_sphere[3]);
+  PetscCheck(!f->has_sphere || f->eps_sphere[3] > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fluid_eps_sphere: radius %.6g m is out of range: allowed (0, inf)", (double)f->eps_sphere[3]);
   PetscCheck(!f->has_bed || (f->eps_bed[1] > 0 && f->eps_bed[1] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fluid_eps_packed_bed: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_bed[1]);
   (void)set;
@@ -121,9 +130,9 @@ PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
     for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt  c[3] = {i, j, k};
-        PetscReal       x[3], r2 = 0;
-        PetscScalar     val  = f->eps_uniform;
+        const PetscInt c[3] = {i, j, k};
+        PetscReal      x[3], r2 = 0;
+        PetscScalar    val = f->eps_uniform;
         for (int a = 0; a < 3; ++a) x[a] = f->dom->lo[a] + (c[a] + 0.5) * f->h[a];
         if (f->has_bed && x[1] < f->dom->lo[1] + f->eps_bed[0]) val = f->eps_bed[1];
         for (int a = 0; a < f->dim; ++a) {
@@ -244,8 +253,8 @@ PetscErrorCode FluidSetUp(Fluid *f)
     PetscReal dt_max;
     PetscCall(FluidMaxTimeStep(f, &dt_max));
     PetscCheck(f->dt_fixed <= dt_max * (1 + 1e-12), f->comm, PETSC_ERR_USER_INPUT,
-               "-fluid_dt %.6g s exceeds the gas time-step limit %.6g s (convective %.6g s, viscous %.6g s at -fluid_cfl %.6g)", (double)f->dt_fixed, (double)dt_max,
-               (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)f->cfl);
+               "-fluid_dt %.6g s exceeds the gas time-step limit %.6g s (convective %.6g s, viscous %.6g s at -fluid_cfl %.6g)",
+               (double)f->dt_fixed, (double)dt_max, (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)f->cfl);
   }
   PetscFunctionReturn(0);
 }
@@ -262,7 +271,10 @@ PetscErrorCode FluidMaxTimeStep(Fluid *f, PetscReal *dt)
   PetscFunctionReturn(0);
 }
 
-PetscReal FluidFixedTimeStep(const Fluid *f) { return f->dt_fixed; }
+PetscReal FluidFixedTimeStep(const Fluid *f)
+{
+  return f->dt_fixed;
+}
 
 PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
 {
@@ -324,8 +336,14 @@ PetscErrorCode FluidGetCellDMs(Fluid *f, DM *scalar, DM *vector)
   PetscFunctionReturn(0);
 }
 
-const FluidStats &FluidGetStats(const Fluid *f) { return f->stats; }
-PetscBool         FluidWantsCellsCSV(const Fluid *f) { return f->output_cells; }
+const FluidStats &FluidGetStats(const Fluid *f)
+{
+  return f->stats;
+}
+PetscBool FluidWantsCellsCSV(const Fluid *f)
+{
+  return f->output_cells;
+}
 
 PetscErrorCode FluidGetCellVelocity(Fluid *f, Vec *velocity)
 {
@@ -351,25 +369,27 @@ PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
   PetscReal   dt = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Gas: rho %.6g kg/m^3, mu %.4g Pa s, model %s, %s limiter, d(eps)/dt %s\n", (double)f->rho, (double)f->mu, model,
-                                   FluidLimiterTypes[(int)f->limiter], f->deps_dt ? "kept" : "dropped (seed)"));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Gas: rho %.6g kg/m^3, mu %.4g Pa s, model %s, %s limiter, d(eps)/dt %s\n", (double)f->rho,
+                                   (double)f->mu, model, FluidLimiterTypes[(int)f->limiter], f->deps_dt ? "kept" : "dropped (seed)"));
   for (int face = 0; face < 2 * f->dim; ++face) {
     if (!bcs.empty()) bcs += ", ";
     bcs += std::string(FluidFaceKeys[face]) + " " + (f->periodic[face / 2] ? "periodic" : FluidBCTypes[f->bc[face]]);
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "Gas boundaries: %s\n", bcs.c_str()));
   if (f->inflow_rate != 0 || !f->jets.empty())
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Gas inlet: distributor %.6g m/s, %d slit(s), inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
-                                     (double)f->inlet_velocity, (int)f->jets.size(), (double)f->inflow_rate,
-                                     (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Gas inlet: distributor %.6g m/s, %d slit(s), inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
+      (double)f->inlet_velocity, (int)f->jets.size(), (double)f->inflow_rate,
+      (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
   for (std::size_t s = 0; s < f->jets.size(); ++s)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  slit %d: x = %.6g..%.6g mm (cells %ld..%ld), %.6g m/s\n", (int)s + 1, 1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]),
-                                     1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]), f->jets[s].first, f->jets[s].last - 1, f->jets[s].velocity));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  slit %d: x = %.6g..%.6g mm (cells %ld..%ld), %.6g m/s\n", (int)s + 1,
+                                     1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]),
+                                     f->jets[s].first, f->jets[s].last - 1, f->jets[s].velocity));
   PetscCall(FluidMaxTimeStep(f, &dt));
-  PetscCall(PetscViewerASCIIPrintf(viewer,
-                                   "Gas time step limits (-fluid_cfl %.3g, %s limiter): convective %.4g s, viscous %.4g s, combined %.4g s; %s %.4g s\n",
-                                   (double)f->cfl, FluidLimiterTypes[(int)f->limiter], (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)dt,
-                                   f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
+  PetscCall(PetscViewerASCIIPrintf(
+    viewer, "Gas time step limits (-fluid_cfl %.3g, %s limiter): convective %.4g s, viscous %.4g s, combined %.4g s; %s %.4g s\n",
+    (double)f->cfl, FluidLimiterTypes[(int)f->limiter], (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)dt,
+    f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
   {
     KSPType ktype;
     PCType  ptype;
@@ -490,8 +510,8 @@ PetscErrorCode FluidDestroy(Fluid **fluid)
   PetscFunctionBeginUser;
   if (!f) PetscFunctionReturn(0);
   PetscCall(FluidPressureDestroy(f));
-  Vec *vecs[] = {&f->u, &f->u_loc, &f->eps, &f->eps_old, &f->eps_loc, &f->eps_old_loc, &f->source, &f->source_loc, &f->cell_u,
-                 &f->phi, &f->phi_loc, &f->rhs, &f->p, &f->u_top, &f->u_top_loc};
+  Vec *vecs[] = {&f->u,      &f->u_loc, &f->eps,     &f->eps_old, &f->eps_loc, &f->eps_old_loc, &f->source,   &f->source_loc,
+                 &f->cell_u, &f->phi,   &f->phi_loc, &f->rhs,     &f->p,       &f->u_top,       &f->u_top_loc};
   for (Vec *v : vecs) PetscCall(VecDestroy(v));
   PetscCall(DMDestroy(&f->da_s));
   PetscCall(DMDestroy(&f->da_u));

@@ -33,7 +33,10 @@ struct FieldView {
   PetscScalar *a = nullptr;
   PetscInt     s[3]{0, 0, 0}, m[3]{1, 1, 1}, dof = 1;
 
-  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c = 0) const { return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c]; }
+  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c = 0) const
+  {
+    return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
+  }
   PetscScalar &at(const PetscInt p[3], PetscInt c = 0) const { return (*this)(p[0], p[1], p[2], c); }
 };
 
@@ -54,31 +57,31 @@ struct Fluid {
   PetscInt         xs[3]{0, 0, 0}, xm[3]{1, 1, 1}; // owned cells
 
   // physics (-fluid_*)
-  FluidModel        model = FLUID_MODEL_B;
-  PetscReal         rho = 1.205, mu = 1.8e-5; // air, seed Table 2.1
-  kernels::Limiter  limiter = kernels::Limiter::VanLeer;
-  PetscBool         deps_dt = PETSC_FALSE;
-  PetscReal         body_force[3]{0, 0, 0};      // N/m^3, added to the momentum source
-  PetscReal         initial_velocity[3]{0, 0, 0}; // m/s, superficial
-  PetscReal         dt_fixed = 0, cfl = 0.9;
-  PetscInt          pc_reuse = 1;
-  PetscBool         output_cells = PETSC_TRUE;
-  PetscReal         eps_uniform = 1.0;
-  PetscReal         eps_sphere[5]{0, 0, 0, 0, 1};
-  PetscBool         has_sphere = PETSC_FALSE;
-  PetscReal         sphere_velocity[3]{0, 0, 0}; // m/s: the frozen sphere moves (eps changes every step)
-  PetscReal         time = 0;                    // s, gas time (moves the sphere)
-  PetscReal         eps_bed[2]{0, 1};
-  PetscBool         has_bed = PETSC_FALSE;
+  FluidModel       model = FLUID_MODEL_B;
+  PetscReal        rho = 1.205, mu = 1.8e-5; // air, seed Table 2.1
+  kernels::Limiter limiter = kernels::Limiter::VanLeer;
+  PetscBool        deps_dt = PETSC_FALSE;
+  PetscReal        body_force[3]{0, 0, 0};       // N/m^3, added to the momentum source
+  PetscReal        initial_velocity[3]{0, 0, 0}; // m/s, superficial
+  PetscReal        dt_fixed = 0, cfl = 0.9;
+  PetscInt         pc_reuse     = 1;
+  PetscBool        output_cells = PETSC_TRUE;
+  PetscReal        eps_uniform  = 1.0;
+  PetscReal        eps_sphere[5]{0, 0, 0, 0, 1};
+  PetscBool        has_sphere = PETSC_FALSE;
+  PetscReal        sphere_velocity[3]{0, 0, 0}; // m/s: the frozen sphere moves (eps changes every step)
+  PetscReal        time = 0;                    // s, gas time (moves the sphere)
+  PetscReal        eps_bed[2]{0, 1};
+  PetscBool        has_bed = PETSC_FALSE;
 
   // boundary conditions (-fluid_bc_*, -inlet_*)
-  FluidBC                   bc[FACE_COUNT]{};
-  PetscReal                 wall_velocity[FACE_COUNT][3]{};
-  PetscReal                 inlet_velocity = 0; // superficial, through the distributor part of the bottom
+  FluidBC                        bc[FACE_COUNT]{};
+  PetscReal                      wall_velocity[FACE_COUNT][3]{};
+  PetscReal                      inlet_velocity = 0; // superficial, through the distributor part of the bottom
   std::vector<kernels::JetCells> jets;
-  std::vector<PetscReal>    inlet;       // superficial inflow velocity of each bottom cell along x
-  PetscReal                 inflow_rate = 0; // m^3/s, from the inlet profile
-  PetscBool                 has_dirichlet = PETSC_FALSE; // a pressure outlet
+  std::vector<PetscReal>         inlet;                       // superficial inflow velocity of each bottom cell along x
+  PetscReal                      inflow_rate   = 0;           // m^3/s, from the inlet profile
+  PetscBool                      has_dirichlet = PETSC_FALSE; // a pressure outlet
 
   // grids and fields
   DM  da_s = nullptr; // scalar, box stencil 2, ghosted: eps, eps_old
@@ -95,10 +98,10 @@ struct Fluid {
   Vec u_top = nullptr, u_top_loc = nullptr;
 
   // pressure solver
-  Mat              A = nullptr;
-  MatNullSpace     nullspace = nullptr;
-  KSP              ksp = nullptr;
-  PetscInt         assemblies = 0, since_pc = 0;
+  Mat          A          = nullptr;
+  MatNullSpace nullspace  = nullptr;
+  KSP          ksp        = nullptr;
+  PetscInt     assemblies = 0, since_pc = 0;
 
   FluidStats stats;
 };
@@ -125,8 +128,8 @@ PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
 PetscErrorCode FluidPressureDestroy(Fluid *f);
 
 // Views on local arrays.
-PetscErrorCode FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
-PetscErrorCode FieldRestore(Vec v, FieldView *view);
+PetscErrorCode   FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
+PetscErrorCode   FieldRestore(Vec v, FieldView *view);
 inline PetscReal FaceEps(const FieldView &eps, const PetscInt c[3], int a)
 {
   return 0.5 * (eps(c[0] - (a == 0), c[1] - (a == 1), c[2] - (a == 2)) + eps.at(c));

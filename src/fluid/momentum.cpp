@@ -44,8 +44,8 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
         const Cell P = {{i, j, k}};
         for (int a = 0; a < dim; ++a) {
           if (!f->periodic[a] && P.c[a] == 0) continue; // boundary face: set by the boundary conditions
-          const Cell L = P(a, -1);
-          auto       u = [&](const Cell &q) { return U.at(q.c, a); };
+          const Cell L    = P(a, -1);
+          auto       u    = [&](const Cell &q) { return U.at(q.c, a); };
           PetscReal  conv = 0, visc = 0;
           for (int b = 0; b < dim; ++b) {
             if (b == a) {
@@ -90,8 +90,8 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
 {
   FieldView       U, E;
   PetscReal       loc[2] = {0, 0}, glob[2], max_speed = 0, gmax;
-  const PetscReal nu     = f->mu / f->rho;
-  const PetscReal psi    = kernels::limiter_psi_max(f->limiter);
+  const PetscReal nu  = f->mu / f->rho;
+  const PetscReal psi = kernels::limiter_psi_max(f->limiter);
 
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
@@ -99,7 +99,7 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
     for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const Cell P = {{i, j, k}};
+        const Cell P        = {{i, j, k}};
         PetscReal  speed[3] = {0, 0, 0}, emin = E.at(P.c), emax = E.at(P.c);
         for (int a = 0; a < f->dim; ++a) {
           speed[a] = PetscMax(PetscAbsReal(U.at(P.c, a)), PetscAbsReal(U.at(P(a, 1).c, a)));
@@ -124,8 +124,8 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
   }
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_REAL, MPI_MAX, f->comm));
   PetscCallMPI(MPI_Allreduce(&max_speed, &gmax, 1, MPIU_REAL, MPI_MAX, f->comm));
-  rates->conv         = glob[0];
-  rates->visc         = glob[1];
+  rates->conv        = glob[0];
+  rates->visc        = glob[1];
   f->stats.max_speed = gmax;
   PetscFunctionReturn(0);
 }

@@ -45,19 +45,21 @@ PetscErrorCode AssembleMatrix(Fluid *f)
         const PetscInt c[3] = {i, j, k};
         MatStencil     row  = {k, j, i, 0}, col[7];
         PetscScalar    val[7], diag = 0;
-        PetscInt       n    = 0;
+        PetscInt       n = 0;
         for (int a = 0; a < f->dim; ++a)
           for (int side = 0; side < 2; ++side) {
             PetscInt nb[3] = {i, j, k};
             nb[a] += side ? 1 : -1;
             if (!f->periodic[a] && (nb[a] < 0 || nb[a] >= f->n[a])) {
-              if (f->bc[2 * a + side] == FLUID_BC_PRESSURE) diag += (f->model == FLUID_MODEL_B ? 1.0 : E.at(c)) * f->area[a] / (0.5 * f->h[a]);
+              if (f->bc[2 * a + side] == FLUID_BC_PRESSURE)
+                diag += (f->model == FLUID_MODEL_B ? 1.0 : E.at(c)) * f->area[a] / (0.5 * f->h[a]);
               continue; // otherwise the normal velocity is given: no pressure flux
             }
-            const PetscInt  fc[3] = {side ? nb[0] : i, side ? nb[1] : j, side ? nb[2] : k}; // the shared face, as the lower face of its upper cell
-            const PetscReal coef  = FaceCoefficient(f, E, fc, a) * f->area[a] / f->h[a];
-            col[n]                = {nb[2], nb[1], nb[0], 0};
-            val[n++]              = -coef;
+            const PetscInt fc[3] = {side ? nb[0] : i, side ? nb[1] : j,
+                                    side ? nb[2] : k}; // the shared face, as the lower face of its upper cell
+            const PetscReal coef = FaceCoefficient(f, E, fc, a) * f->area[a] / f->h[a];
+            col[n]               = {nb[2], nb[1], nb[0], 0};
+            val[n++]             = -coef;
             diag += coef;
           }
         col[n]   = row;
@@ -148,7 +150,8 @@ PetscErrorCode SetUpMultigrid(Fluid *f, PC pc, const char *prefix)
   if (!set) levels = ChooseLevels(f);
   if (levels > 1)
     PetscCheck(CoarseningFactors(f, levels, fac, &coarse), f->comm, PETSC_ERR_USER_INPUT,
-               "-%spc_mg_levels %d: the fluid grid (per rank) cannot be coarsened %d times by whole factors; leave the option out to choose automatically",
+               "-%spc_mg_levels %d: the fluid grid (per rank) cannot be coarsened %d times by whole factors; leave the option out to "
+               "choose automatically",
                prefix, (int)levels, (int)levels - 1);
   PetscCall(PCMGSetLevels(pc, levels, NULL));
   if (levels == 1) PetscFunctionReturn(0);
@@ -300,7 +303,8 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
     PetscCall(KSPGetType(f->ksp, &kt));
     PetscCall(KSPGetPC(f->ksp, &pc));
     PetscCall(PCGetType(pc, &pt));
-    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "pressure solve (-fluid_p_ksp_type %s -fluid_p_pc_type %s) did not converge at gas step %lld: %s", kt, pt,
+    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED,
+            "pressure solve (-fluid_p_ksp_type %s -fluid_p_pc_type %s) did not converge at gas step %lld: %s", kt, pt,
             (long long)f->stats.steps + 1, KSPConvergedReasons[reason]);
   }
   if (f->nullspace) PetscCall(MatNullSpaceRemove(f->nullspace, f->phi));

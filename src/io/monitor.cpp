@@ -79,7 +79,8 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionBeginUser;
   m->interval = t_final / 200.0;
   PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities and tracked particles", "Output");
-  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200; 0: every step)", "s", NonNegative(), &m->interval, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200; 0: every step)", "s",
+                        NonNegative(), &m->interval, NULL));
   PetscCall(PetscOptionsIntArray("-track_ids", "Particle ids whose state goes to track.csv", "", ids, &nids, &set));
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
@@ -105,19 +106,22 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t, const FluidStats *fluid)
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
+                            const FluidStats *fluid)
 {
   PetscFunctionBeginUser;
   (void)comm;
   if (m->csv) {
     fprintf(m->csv, "%lld,%.10e", (long long)step, (double)time);
     if (m->particles)
-      fprintf(m->csv, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count, (double)t.contacts_per_particle,
-              (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0], (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed,
-              (double)t.max_overlap_rel, (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
+      fprintf(m->csv, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count,
+              (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0],
+              (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
+              (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
     if (m->fluid && fluid)
-      fprintf(m->csv, ",%.6e,%.6e,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed, (int)fluid->ksp_its, (double)fluid->ksp_rnorm,
-              (double)fluid->ksp_time, (double)fluid->max_div, (double)fluid->rhs_scale, (double)fluid->inflow, (double)fluid->outflow);
+      fprintf(m->csv, ",%.6e,%.6e,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed, (int)fluid->ksp_its,
+              (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div, (double)fluid->rhs_scale, (double)fluid->inflow,
+              (double)fluid->outflow);
     fprintf(m->csv, "\n");
     fflush(m->csv);
   }

@@ -7,7 +7,7 @@
 using namespace fluidbed::kernels;
 
 namespace {
-const Limiter kAll[] = {Limiter::Upwind, Limiter::VanLeer, Limiter::Koren, Limiter::Minmod, Limiter::Superbee};
+const Limiter kAll[]         = {Limiter::Upwind, Limiter::VanLeer, Limiter::Koren, Limiter::Minmod, Limiter::Superbee};
 const Limiter kSecondOrder[] = {Limiter::VanLeer, Limiter::Koren, Limiter::Minmod, Limiter::Superbee};
 } // namespace
 
@@ -123,7 +123,7 @@ TEST(JetSnap, OutsideTheBottom)
 
 TEST(InletProfile, DistributorAndSlits)
 {
-  const std::vector<double> v = inlet_profile(6, 0.5, {{1, 3, 40.0}, {5, 6, -1.0}});
+  const std::vector<double> v      = inlet_profile(6, 0.5, {{1, 3, 40.0}, {5, 6, -1.0}});
   const std::vector<double> expect = {0.5, 40.0, 40.0, 0.5, 0.5, -1.0};
   EXPECT_EQ(v, expect);
 }

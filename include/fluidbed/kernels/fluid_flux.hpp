@@ -33,7 +33,10 @@ inline double limiter_psi(Limiter l, double r)
 }
 
 // Largest value of psi: the explicit convective limit of a limited scheme is CFL <= 1 / (1 + psi_max / 2).
-inline double limiter_psi_max(Limiter l) { return l == Limiter::Upwind ? 0.0 : (l == Limiter::Minmod ? 1.0 : 2.0); }
+inline double limiter_psi_max(Limiter l)
+{
+  return l == Limiter::Upwind ? 0.0 : (l == Limiter::Minmod ? 1.0 : 2.0);
+}
 
 // Value carried through a face by a flow going from cell "u" (upwind) to cell "d" (downwind); "uu" is the cell
 // upwind of u. phi_f = phi_u + psi(r) (phi_d - phi_u) / 2 with r = (phi_u - phi_uu) / (phi_d - phi_u). The result
@@ -77,20 +80,20 @@ inline StepRates explicit_step_rates(int dim, const double speed[3], const doubl
 // parity); when the centre itself is not on a face or a cell centre, there is none and nearest_centre is the
 // closest centre that has valid widths.
 struct JetSnap {
-  bool   ok = false;
-  long   first = 0, last = 0;       // cells [first, last) covered when ok
-  bool   centre_ok = false;         // centre on a face or a cell centre
-  double nearest_width  = 0.0;      // m, valid width closest to the request (centre_ok only)
-  long   nearest_cells  = 0;        // that width in cells
-  double nearest_centre = 0.0;      // m, closest centre with valid widths
-  bool   inside = true;             // the slit lies within the row
+  bool   ok    = false;
+  long   first = 0, last = 0;    // cells [first, last) covered when ok
+  bool   centre_ok      = false; // centre on a face or a cell centre
+  double nearest_width  = 0.0;   // m, valid width closest to the request (centre_ok only)
+  long   nearest_cells  = 0;     // that width in cells
+  double nearest_centre = 0.0;   // m, closest centre with valid widths
+  bool   inside         = true;  // the slit lies within the row
 };
 
 inline JetSnap snap_jet(double centre, double width, double x0, double h, long n, double tol = 1e-3)
 {
   JetSnap      s;
   const double lo = (centre - 0.5 * width - x0) / h, hi = (centre + 0.5 * width - x0) / h;
-  const double c2 = 2.0 * (centre - x0) / h; // centre in half cells
+  const double c2  = 2.0 * (centre - x0) / h; // centre in half cells
   s.centre_ok      = std::fabs(c2 - std::round(c2)) <= 2.0 * tol;
   s.nearest_centre = x0 + 0.5 * h * std::round(c2);
   if (s.centre_ok) {
@@ -99,7 +102,7 @@ inline JetSnap snap_jet(double centre, double width, double x0, double h, long n
     long       m      = (long)std::llround(width / h);
     if (((m % 2) + 2) % 2 != parity) {
       const long down = m - 1, up = m + 1;
-      m               = (std::fabs(down * h - width) < std::fabs(up * h - width) && down >= 1) ? down : up;
+      m = (std::fabs(down * h - width) < std::fabs(up * h - width) && down >= 1) ? down : up;
     }
     if (m < 1) m = parity ? 1 : 2;
     s.nearest_cells = m;
