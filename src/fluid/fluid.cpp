@@ -127,21 +127,19 @@ PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
 
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt c[3] = {i, j, k};
-        PetscReal      x[3], r2 = 0;
-        PetscScalar    val = f->eps_uniform;
-        for (int a = 0; a < 3; ++a) x[a] = f->dom->lo[a] + (c[a] + 0.5) * f->h[a];
-        if (f->has_bed && x[1] < f->dom->lo[1] + f->eps_bed[0]) val = f->eps_bed[1];
-        for (int a = 0; a < f->dim; ++a) {
-          const PetscReal d = x[a] - (f->eps_sphere[a] + f->sphere_velocity[a] * t);
-          r2 += d * d;
-        }
-        if (f->has_sphere && r2 < f->eps_sphere[3] * f->eps_sphere[3]) val = f->eps_sphere[4];
-        e(i, j, k) = val;
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    PetscReal      x[3], r2 = 0;
+    PetscScalar    val = f->eps_uniform;
+    for (int a = 0; a < 3; ++a) x[a] = f->dom->lo[a] + (c[a] + 0.5) * f->h[a];
+    if (f->has_bed && x[1] < f->dom->lo[1] + f->eps_bed[0]) val = f->eps_bed[1];
+    for (int a = 0; a < f->dim; ++a) {
+      const PetscReal d = x[a] - (f->eps_sphere[a] + f->sphere_velocity[a] * t);
+      r2 += d * d;
+    }
+    if (f->has_sphere && r2 < f->eps_sphere[3] * f->eps_sphere[3]) val = f->eps_sphere[4];
+    e(i, j, k) = val;
+  });
   PetscCall(FieldRestore(f->eps, &e));
   PetscFunctionReturn(0);
 }
@@ -165,12 +163,10 @@ PetscErrorCode SetInitialVelocity(Fluid *f)
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt c[3] = {i, j, k};
-        for (int a = 0; a < f->dim; ++a) u(i, j, k, a) = f->initial_velocity[a] / FaceEps(e, c, a);
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    for (int a = 0; a < f->dim; ++a) u(i, j, k, a) = f->initial_velocity[a] / FaceEps(e, c, a);
+  });
   PetscCall(FieldRestore(f->eps_loc, &e));
   PetscCall(FieldRestore(f->u, &u));
   PetscFunctionReturn(0);
@@ -352,10 +348,9 @@ PetscErrorCode FluidGetCellVelocity(Fluid *f, Vec *velocity)
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
   PetscCall(FieldGet(f->da_c, f->cell_u, PETSC_FALSE, &c));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i)
-        for (int a = 0; a < f->dim; ++a) c(i, j, k, a) = 0.5 * (u(i, j, k, a) + u(i + (a == 0), j + (a == 1), k + (a == 2), a));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    for (int a = 0; a < f->dim; ++a) c(i, j, k, a) = 0.5 * (u(i, j, k, a) + u(i + (a == 0), j + (a == 1), k + (a == 2), a));
+  });
   PetscCall(FieldRestore(f->cell_u, &c));
   PetscCall(FieldRestore(f->u_loc, &u));
   *velocity = f->cell_u;
@@ -391,12 +386,8 @@ PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
     (double)f->cfl, FluidLimiterTypes[(int)f->limiter], (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)dt,
     f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
   {
-    KSPType ktype;
-    PCType  ptype;
-    PC      pc;
-    PetscCall(KSPGetType(f->ksp, &ktype));
-    PetscCall(KSPGetPC(f->ksp, &pc));
-    PetscCall(PCGetType(pc, &ptype));
+    const char *ktype, *ptype;
+    PetscCall(FluidSolverNames(f, &ktype, &ptype));
     PetscCall(PetscViewerASCIIPrintf(viewer, "Pressure: %s Poisson equation, %s + %s (-fluid_p_ksp_type, -fluid_p_pc_type)%s\n",
                                      f->model == FLUID_MODEL_B ? "constant-coefficient" : "variable-coefficient (eps)", ktype, ptype,
                                      f->has_dirichlet ? ", p = 0 at the outlet" : ", pure Neumann (constant null space)"));
@@ -408,14 +399,10 @@ PetscErrorCode FluidAddSummary(Fluid *f, JsonWriter *json)
 {
   const FluidStats &s = f->stats;
   JsonWriter        g;
-  KSPType           kt;
-  PCType            pt;
-  PC                pc;
+  const char       *kt, *pt;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPGetType(f->ksp, &kt));
-  PetscCall(KSPGetPC(f->ksp, &pc));
-  PetscCall(PCGetType(pc, &pt));
+  PetscCall(FluidSolverNames(f, &kt, &pt));
   g.String("model", FluidModelTypes[f->model]);
   g.Integer("steps", (long long)s.steps);
   g.Number("dt_last", s.dt);
@@ -455,19 +442,17 @@ PetscErrorCode FluidWriteCellsCSV(Fluid *f, const char *path)
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
   PetscCall(FieldGet(f->da_p, f->p, PETSC_FALSE, &p));
   PetscCall(FieldGet(f->da_c, cu, PETSC_FALSE, &c));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        PetscReal r[kCols] = {0};
-        r[0]               = (PetscReal)(i + f->n[0] * (j + f->n[1] * k)); // natural index, exact below 2^53
-        r[1]               = e(i, j, k);
-        r[2]               = p(i, j, k);
-        for (int a = 0; a < f->dim; ++a) {
-          r[3 + a] = c(i, j, k, a);
-          r[6 + a] = u(i, j, k, a);
-        }
-        rows.insert(rows.end(), r, r + kCols);
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    PetscReal r[kCols] = {0};
+    r[0]               = (PetscReal)(i + f->n[0] * (j + f->n[1] * k)); // natural index, exact below 2^53
+    r[1]               = e(i, j, k);
+    r[2]               = p(i, j, k);
+    for (int a = 0; a < f->dim; ++a) {
+      r[3 + a] = c(i, j, k, a);
+      r[6 + a] = u(i, j, k, a);
+    }
+    rows.insert(rows.end(), r, r + kCols);
+  });
   PetscCall(FieldRestore(cu, &c));
   PetscCall(FieldRestore(f->p, &p));
   PetscCall(FieldRestore(f->eps_loc, &e));

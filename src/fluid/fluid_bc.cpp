@@ -188,9 +188,7 @@ PetscErrorCode FluidDepsSum(Fluid *f, PetscReal dt, PetscReal *sum)
   if (!f->deps_dt || !(dt > 0)) PetscFunctionReturn(0);
   PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
   PetscCall(FieldGet(f->da_p, f->eps_old, PETSC_FALSE, &e0));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) loc -= f->vol * (e(i, j, k) - e0(i, j, k)) / dt;
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) { loc -= f->vol * (e(i, j, k) - e0(i, j, k)) / dt; });
   PetscCall(FieldRestore(f->eps_old, &e0));
   PetscCall(FieldRestore(f->eps, &e));
   PetscCallMPI(MPI_Allreduce(&loc, sum, 1, MPIU_REAL, MPI_SUM, f->comm));

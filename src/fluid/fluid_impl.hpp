@@ -106,6 +106,15 @@ struct Fluid {
   FluidStats stats;
 };
 
+// Calls fn(i, j, k) for every cell this rank owns (x fastest; k = 0 in 2D).
+template <class Fn>
+inline void ForEachOwnedCell(const Fluid *f, Fn &&fn)
+{
+  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) fn(i, j, k);
+}
+
 // fluid_bc.cpp
 PetscErrorCode FluidReadBoundaryOptions(Fluid *f);
 PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind); // kind: 0 scalar (eps), 1 velocity
@@ -126,6 +135,7 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt);
 PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt);
 PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
 PetscErrorCode FluidPressureDestroy(Fluid *f);
+PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc); // the pressure KSP and PC types
 
 // Views on local arrays.
 PetscErrorCode   FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);

@@ -247,6 +247,17 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc)
+{
+  PC p;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetType(f->ksp, ksp));
+  PetscCall(KSPGetPC(f->ksp, &p));
+  PetscCall(PCGetType(p, pc));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidPressureDestroy(Fluid *f)
 {
   PetscFunctionBeginUser;
@@ -276,13 +287,11 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
   PetscCall(FieldGet(f->da_p, f->rhs, PETSC_FALSE, &b));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt  c[3] = {i, j, k};
-        const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
-        b(i, j, k)           = -(NetOutflow(f, U, E, c) + f->vol * deps);
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt  c[3] = {i, j, k};
+    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
+    b(i, j, k)           = -(NetOutflow(f, U, E, c) + f->vol * deps);
+  });
   PetscCall(FieldRestore(f->rhs, &b));
   PetscCall(FieldRestore(f->eps_old_loc, &E0));
   PetscCall(FieldRestore(f->eps_loc, &E));
@@ -297,12 +306,8 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   const double t1 = MPI_Wtime();
   PetscCall(KSPGetConvergedReason(f->ksp, &reason));
   if (reason < 0) {
-    KSPType kt;
-    PCType  pt;
-    PC      pc;
-    PetscCall(KSPGetType(f->ksp, &kt));
-    PetscCall(KSPGetPC(f->ksp, &pc));
-    PetscCall(PCGetType(pc, &pt));
+    const char *kt, *pt;
+    PetscCall(FluidSolverNames(f, &kt, &pt));
     SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED,
             "pressure solve (-fluid_p_ksp_type %s -fluid_p_pc_type %s) did not converge at gas step %lld: %s", kt, pt,
             (long long)f->stats.steps + 1, KSPConvergedReasons[reason]);
@@ -334,17 +339,15 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt c[3] = {i, j, k};
-        for (int a = 0; a < f->dim; ++a) {
-          if (!f->periodic[a] && c[a] == 0) continue;
-          const PetscInt  l[3] = {i - (a == 0), j - (a == 1), k - (a == 2)};
-          const PetscReal e    = FaceEps(E, c, a);
-          Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
-        }
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    for (int a = 0; a < f->dim; ++a) {
+      if (!f->periodic[a] && c[a] == 0) continue;
+      const PetscInt  l[3] = {i - (a == 0), j - (a == 1), k - (a == 2)};
+      const PetscReal e    = FaceEps(E, c, a);
+      Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
+    }
+  });
   if (f->has_dirichlet && f->xs[1] + f->xm[1] == f->n[1]) {
     FieldView      top;
     const PetscInt j = f->n[1] - 1;
@@ -373,13 +376,11 @@ PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div)
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
-  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
-        const PetscInt  c[3] = {i, j, k};
-        const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
-        loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U, E, c) / f->vol + deps));
-      }
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt  c[3] = {i, j, k};
+    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
+    loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U, E, c) / f->vol + deps));
+  });
   PetscCall(FieldRestore(f->eps_old_loc, &E0));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->u_loc, &U));
