@@ -32,7 +32,7 @@ for model in A B; do
   done
 done
 {
-  echo "Machine: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores; $(date -u +%Y-%m-%d); OMP_NUM_THREADS=$OMP_NUM_THREADS"
+  echo "Machine: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(getconf _NPROCESSORS_ONLN) cores; $(date -u +%Y-%m-%d); OMP_NUM_THREADS=$OMP_NUM_THREADS"
   echo "Command: $ROOT/scripts/bench_pressure.sh (FLUIDBED_BENCH_STEPS=$STEPS, ranks: $RANKS), each run:"
   echo "fluidbed -options_file examples/fluid/jet_empty_bed.opts -max_steps $STEPS -fluid_eps_packed_bed 0.06,0.4 -fluid_model M -fluid_p_ksp_type K -fluid_p_pc_type P"
   echo

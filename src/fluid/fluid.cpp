@@ -97,15 +97,15 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",
                         {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
   n = 5;
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: x,y,z,radius [m],eps", "m",
-                             Closed(-100.0, 100.0), f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: centre x,y,z, radius, eps",
+                             "m,m,m,m,-", Closed(-100.0, 100.0), f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
   n = 3;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere_velocity",
                              "Velocity of the frozen sphere: its void fraction field moves with it", "m/s", Closed(-1e3, 1e3),
                              f->sphere_velocity, &n, PETSC_TRUE, NULL));
   n = 2;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_packed_bed",
-                             "Frozen packed bed: cells below height [m] get void fraction eps: height,eps", "m", Closed(0.0, 100.0),
+                             "Frozen packed bed: the cells below height get void fraction eps: height,eps", "m,-", Closed(0.0, 100.0),
                              f->eps_bed, &n, PETSC_TRUE, &f->has_bed));
   PetscOptionsEnd();
   f->model   = (FluidModel)model;
@@ -260,6 +260,9 @@ PetscErrorCode FluidMaxTimeStep(Fluid *f, PetscReal *dt)
   kernels::StepRates r;
 
   PetscFunctionBeginUser;
+  // the void fraction the coupling may have written since the last step
+  PetscCall(DMGlobalToLocal(f->da_s, f->eps, INSERT_VALUES, f->eps_loc));
+  PetscCall(FluidFillGhosts(f, f->eps_loc, 0));
   PetscCall(FluidStepRates(f, &r));
   f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
   f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
@@ -381,10 +384,14 @@ PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
                                      1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]),
                                      f->jets[s].first, f->jets[s].last - 1, f->jets[s].velocity));
   PetscCall(FluidMaxTimeStep(f, &dt));
-  PetscCall(PetscViewerASCIIPrintf(
-    viewer, "Gas time step limits (-fluid_cfl %.3g, %s limiter): convective %.4g s, viscous %.4g s, combined %.4g s; %s %.4g s\n",
-    (double)f->cfl, FluidLimiterTypes[(int)f->limiter], (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)dt,
-    f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
+  {
+    char conv[32] = "inf (gas at rest)";
+    if (f->stats.dt_conv < PETSC_MAX_REAL) PetscCall(PetscSNPrintf(conv, sizeof(conv), "%.4g s", (double)f->stats.dt_conv));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Gas time step limits (-fluid_cfl %.3g, %s limiter): convective %s, viscous %.4g s, combined %.4g s; %s %.4g s\n",
+      (double)f->cfl, FluidLimiterTypes[(int)f->limiter], conv, (double)f->stats.dt_visc, (double)dt,
+      f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
+  }
   {
     const char *ktype, *ptype;
     PetscCall(FluidSolverNames(f, &ktype, &ptype));
