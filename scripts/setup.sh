@@ -29,6 +29,8 @@ fluidbed_build() {
 
 # Open MPI refuses to run as root without these; CI machines and containers often are root.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# hypre (the default pressure preconditioner) is built with OpenMP: one thread per MPI rank on small machines.
+export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 
 fluidbed_install_packages
 fluidbed_build

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fluidbed/dem.hpp"
+#include "fluidbed/grids.hpp"
 
 namespace fluidbed {
 
@@ -32,6 +33,10 @@ struct SnapshotRecord {
 
 // Rewrites <dir>/particles.xmf for the whole series (rank 0).
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series);
+
+// Rewrites <dir>/fluid.xmf: CoRectMesh grids with the cell-centred velocity, pressure and void fraction (rank 0).
+PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid,
+                              const std::vector<SnapshotRecord> &series);
 
 // Atomic file replacement: the caller writes `path + ".tmp"`, then this renames it onto `path` (rank 0, after
 // every rank has closed the file), so an interrupted write never destroys the previous file.

@@ -11,6 +11,8 @@
 
 namespace fluidbed {
 
+struct FluidStats;
+
 // Global sums over the particles (monitor.csv columns).
 struct ParticleTotals {
   PetscInt64 count    = 0;
@@ -27,11 +29,14 @@ struct Monitor {
   std::vector<PetscInt64> track_ids;
   PetscInt                track_every = 1;
   PetscReal               interval = 0, next = 0;
+  bool                    particles = true, fluid = false; // column groups, set before MonitorCreate
 };
 
 // append: continue the files of a restarted run instead of starting them anew.
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, Monitor *m);
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t);
+// One row: the particle columns when m->particles, the gas columns (fluid, the last gas step) when m->fluid.
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
+                            const FluidStats *fluid = nullptr);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
 PetscErrorCode MonitorDestroy(Monitor *m);
 

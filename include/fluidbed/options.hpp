@@ -38,6 +38,11 @@ PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[
 PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[],
                                 RealRange range, PetscReal values[], PetscInt *n, PetscBool exact, PetscBool *set);
 
+// Enumerated option (PETSc's list format: names, type name, prefix, NULL); a value not in the list stops with a
+// message naming the option and the allowed values (PETSc's own check raises PETSC_ERR_USER with a traceback).
+PetscErrorCode OptionsEnum(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char *const list[],
+                           PetscEnum *value, PetscBool *set);
+
 // The option name with the block's prefix, e.g. "-dem_kn", for messages.
 const char *OptionName(PetscOptionItems *PetscOptionsObject, const char name[]);
 

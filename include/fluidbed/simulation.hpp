@@ -5,6 +5,7 @@
 
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
+#include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
@@ -19,6 +20,9 @@ struct RunControl {
   PetscReal progress_interval              = 10.0; // wall-clock s between progress lines
   PetscBool write_particles                = PETSC_TRUE;
   char      output_dir[PETSC_MAX_PATH_LEN] = "output";
+  PetscBool fluid           = PETSC_FALSE; // -fluid: the gas phase
+  PetscBool particles       = PETSC_TRUE;  // -particles: the DEM
+  PetscInt  couple_substeps = 1;           // -couple_substeps: gas step = DEM step x this, with both on
 };
 
 // HDF5 snapshots every -output_interval, checkpoints every -checkpoint_interval, -restart FILE.
@@ -40,10 +44,12 @@ struct Simulation {
   Monitor         monitor;
   OutputSchedule  output;
   InsertionReport inserted;
-  Dem            *dem        = nullptr;
-  DM              swarm      = nullptr;
-  PetscInt64      step       = 0;
-  PetscReal       time       = 0.0;
+  Dem            *dem   = nullptr;
+  DM              swarm = nullptr;
+  Fluid          *fluid = nullptr;
+  PetscInt64      step  = 0;
+  PetscReal       time  = 0.0;
+  PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)
   double          wall_setup = 0.0, wall_run = 0.0;
 };
 

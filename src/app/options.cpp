@@ -99,4 +99,28 @@ PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode OptionsEnum(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char *const list[],
+                           PetscEnum *value, PetscBool *set)
+{
+  char      buf[256];
+  PetscBool given = PETSC_FALSE, found = PETSC_FALSE;
+  PetscEnum e;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(PetscOptionsObject->options, PetscOptionsObject->prefix, name, buf, sizeof(buf), &given));
+  if (given) {
+    PetscCall(PetscEnumFind(list, buf, &e, &found));
+    if (!found) {
+      PetscInt n = 0;
+      while (list[n]) ++n;
+      std::string names;
+      for (PetscInt i = 0; i < n - 2; ++i) names += (names.empty() ? "" : ", ") + std::string(list[i]);
+      SETERRQ(PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not one of: %s", OptionName(PetscOptionsObject, name), buf,
+              names.c_str());
+    }
+  }
+  PetscCall(PetscOptionsEnum_Private(PetscOptionsObject, name, text, "", list, *value, value, set));
+  PetscFunctionReturn(0);
+}
+
 } // namespace fluidbed

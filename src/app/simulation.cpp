@@ -20,7 +20,13 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
                                r->output_dir, sizeof(r->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles,
                              &r->write_particles, NULL));
+  PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid,
+                             &r->fluid, NULL));
+  PetscCall(PetscOptionsBool("-particles", "Turn the particles (DEM) on", "", r->particles, &r->particles, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1,
+                       100000, &r->couple_substeps, NULL));
   PetscOptionsEnd();
+  PetscCheck(r->fluid || r->particles, comm, PETSC_ERR_USER_INPUT, "-particles 0 needs -fluid: there is nothing to simulate");
   PetscFunctionReturn(0);
 }
 
@@ -42,25 +48,33 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   PetscCallMPI(MPI_Allreduce(sim->log.seconds, phase_max, PHASE_COUNT, MPI_DOUBLE, MPI_MAX, sim->comm));
-  const double psteps = (double)tot.count * (double)sim->step;
+  const double psteps = (double)tot.count * (double)sim->steps_run;
   json.Integer("steps", (long long)sim->step);
+  json.Integer("steps_this_run", (long long)sim->steps_run);
   json.Number("time", sim->time);
-  json.Number("dt", sim->dem->par.dt);
-  json.Number("t_cr", sim->dem->par.t_cr);
-  json.Number("t_cr_wall", sim->dem->par.t_cr_wall);
-  json.Integer("particles", (long long)tot.count);
-  json.Integer("particles_inserted", (long long)sim->inserted.count);
-  json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
+  if (sim->dem) {
+    json.Number("dt", sim->dem->par.dt);
+    json.Number("t_cr", sim->dem->par.t_cr);
+    json.Number("t_cr_wall", sim->dem->par.t_cr_wall);
+    json.Integer("particles", (long long)tot.count);
+    json.Integer("particles_inserted", (long long)sim->inserted.count);
+    json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
+  }
   json.Integer("ranks", size);
-  json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
-  json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
-  json.Number("contacts_per_particle", tot.contacts_per_particle);
+  if (sim->dem) {
+    json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
+    json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
+    json.Number("contacts_per_particle", tot.contacts_per_particle);
+  }
+  if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
   json.Number("wall_time_setup", sim->wall_setup);
   json.Number("wall_time_run", sim->wall_run);
   for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
   json.Object("wall_time_phase_max_over_ranks", phases);
-  json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
-  json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
+  if (sim->dem) {
+    json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
+    json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
+  }
   PetscCall(JsonWrite(sim->comm, (std::string(sim->run.output_dir) + "/summary.json").c_str(), json));
   PetscFunctionReturn(0);
 }
@@ -86,71 +100,143 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(OutputScheduleSetFromOptions(sim));
   const PetscBool restart = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(DomainSetFromOptions(sim->comm, &sim->domain));
-  PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
-  PetscCall(GridsCreate(sim->comm, sim->domain, sim->props.d_max, &sim->grids));
-  PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
-  PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));
+  if (sim->run.particles) PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
+  PetscCall(GridsCreate(sim->comm, sim->domain, sim->run.particles ? sim->props.d_max : 0.0, &sim->grids));
+  if (sim->run.particles) {
+    PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
+    PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));
+  }
+  if (sim->run.fluid) {
+    PetscCall(FluidCreate(sim->comm, sim->domain, sim->grids.fluid, &sim->log, &sim->fluid));
+    PetscCall(FluidSetUp(sim->fluid));
+  }
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
+  sim->monitor.particles = sim->run.particles;
+  sim->monitor.fluid     = sim->run.fluid;
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
   if (restart) PetscCall(SimulationReadCheckpoint(sim));
-  else PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
-  PetscCall(PetscViewerASCIIPrintf(
-    viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
-    (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
-    (double)sim->inserted.solid_fraction_region));
-  PetscCall(DemParamsView(sim->dem->par, viewer));
+  if (sim->dem) {
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
+      (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
+      (double)sim->inserted.solid_fraction_region));
+    PetscCall(DemParamsView(sim->dem->par, viewer));
+    PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
+  }
   if (restart)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Restart from %s at t = %.6g s, step %lld\n", sim->output.restart, (double)sim->time,
                                      (long long)sim->step));
-
-  PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
+  if (sim->fluid) {
+    PetscCall(FluidView(sim->fluid, viewer));
+    if (sim->dem) {
+      // both on (not coupled yet): the gas step is a whole number of DEM steps and must respect the gas limits
+      const PetscReal dt_gas = sim->dem->par.dt * sim->run.couple_substeps;
+      PetscReal       dt_max;
+      PetscCheck(FluidFixedTimeStep(sim->fluid) == 0, sim->comm, PETSC_ERR_USER_INPUT,
+                 "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
+      PetscCall(FluidMaxTimeStep(sim->fluid, &dt_max));
+      PetscCheck(dt_gas <= dt_max, sim->comm, PETSC_ERR_USER_INPUT,
+                 "-couple_substeps %d: the gas step %.6g s (DEM step %.6g s x %d) exceeds the gas limit %.6g s; use at most %d substeps",
+                 (int)sim->run.couple_substeps, (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max,
+                 (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
+      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n",
+                                       (int)sim->run.couple_substeps, (double)dt_gas));
+    }
+  }
   sim->wall_setup = MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+// Length of the next gas step when the gas runs alone: -fluid_dt or its limits. The last step is not shortened to
+// end on t_final (the run ends with the first step that reaches it), so that a run restarted from a checkpoint takes
+// the same steps as the uninterrupted one.
+PetscErrorCode GasOnlyStep(Simulation *sim, PetscReal *dt)
+{
+  PetscFunctionBeginUser;
+  *dt = FluidFixedTimeStep(sim->fluid);
+  if (*dt == 0) PetscCall(FluidMaxTimeStep(sim->fluid, dt));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
+{
+  PetscFunctionBeginUser;
+  if (sim->dem) PetscCall(ComputeParticleTotals(sim->dem, tot));
+  PetscCall(
+    MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
 PetscErrorCode SimulationRun(Simulation *sim)
 {
-  Dem            *dem = sim->dem;
-  const PetscReal dt  = dem->par.dt;
-  // Steps count from the start of the simulated time (t = step dt), so that a restarted run reproduces the times
-  // of the uninterrupted one; -max_steps limits the steps of this run.
-  const PetscInt64 step_final = (PetscInt64)PetscCeilReal(sim->run.t_final / dt - 1e-9);
-  const PetscInt64 nsteps =
-    PetscMax(0, sim->run.max_steps >= 0 ? PetscMin(step_final - sim->step, (PetscInt64)sim->run.max_steps) : step_final - sim->step);
-  const PetscBool restarted = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
-  ParticleTotals  tot;
-  const double    t0            = MPI_Wtime();
-  double          last_progress = t0;
+  Dem            *dem    = sim->dem;
+  const PetscInt  sub    = (dem && sim->fluid) ? sim->run.couple_substeps : 1; // DEM steps per gas step
+  const PetscReal dt_dem = dem ? dem->par.dt : 0.0;
+  // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
+  // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.
+  const PetscInt64 step_final = dem ? (PetscInt64)PetscCeilReal(sim->run.t_final / dt_dem - 1e-9) : PETSC_MAX_INT;
+  const PetscInt64 step0      = sim->step;
+  const PetscInt64 step_stop  = sim->run.max_steps >= 0 ? PetscMin(step_final, step0 + sim->run.max_steps) : step_final;
+  const PetscReal  time0      = sim->time;
+  const PetscBool  restarted  = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
+  ParticleTotals   tot;
+  const double     t0            = MPI_Wtime();
+  double           last_progress = t0;
+
+  auto finished = [&]() {
+    if (dem) return sim->step >= step_stop;
+    return sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps);
+  };
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)nsteps, (double)((sim->step + nsteps) * dt)));
+  if (dem)
+    PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)PetscMax(0, step_stop - step0),
+                          (double)(step_stop * dt_dem)));
+  else
+    PetscCall(PetscPrintf(sim->comm, "Running the gas to t = %.6g s%s\n", (double)sim->run.t_final,
+                          sim->run.max_steps >= 0 ? " (or -max_steps)" : ""));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-  PetscCall(ComputeParticleTotals(dem, &tot));
-  if (!restarted) { // a restart continues the files at the checkpoint's row
-    PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
-    PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+  if (!restarted) { // a restart continues the files after the checkpoint's row
+    PetscCall(WriteMonitorRow(sim, &tot));
+    if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     sim->monitor.next = sim->time + sim->monitor.interval;
     PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
   }
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
 
-  const PetscInt64 step0 = sim->step;
-  while (sim->step - step0 < nsteps) {
-    PetscCall(DemStep(dem));
-    sim->step++;
-    sim->time = (PetscReal)sim->step * dt;
+  while (!finished()) {
+    PetscReal dt = dt_dem;
+    if (sim->fluid && (!dem || (sim->step - step0) % sub == 0)) {
+      PetscReal dt_gas = sub * dt_dem;
+      if (!dem) PetscCall(GasOnlyStep(sim, &dt_gas));
+      PetscCall(FluidStep(sim->fluid, dt_gas));
+      if (!dem) dt = dt_gas;
+    }
+    if (dem) {
+      PetscCall(DemStep(dem));
+      sim->step++;
+      sim->time = (PetscReal)sim->step * dt;
+    } else {
+      sim->step++;
+      sim->time += dt;
+    }
 
     PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-    PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
-    PetscCall(SimulationOutputStep(sim, sim->step - step0 == nsteps ? PETSC_TRUE : PETSC_FALSE));
-    if (sim->time >= sim->monitor.next - 0.5 * dt || sim->step - step0 == nsteps) {
-      PetscCall(ComputeParticleTotals(dem, &tot));
-      PetscCall(MonitorWrite(sim->comm, &sim->monitor, dem, sim->step, sim->time, tot));
+    const PetscBool last = finished() ? PETSC_TRUE : PETSC_FALSE;
+    if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
+    if (sim->monitor.interval == 0 || sim->time >= sim->monitor.next - 0.5 * dt || last) {
+      PetscCall(WriteMonitorRow(sim, &tot));
       while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
     }
+    PetscCall(SimulationOutputStep(sim, last));
     PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
 
     // Progress: rank 0 decides every 64 steps, so that all ranks take the same branch.
@@ -158,7 +244,9 @@ PetscErrorCode SimulationRun(Simulation *sim)
       double now = MPI_Wtime();
       PetscCallMPI(MPI_Bcast(&now, 1, MPI_DOUBLE, 0, sim->comm));
       if (now - last_progress >= sim->run.progress_interval) {
-        const double elapsed = now - t0, done = (double)(sim->step - step0) / (double)nsteps;
+        const double elapsed = now - t0;
+        const double done    = dem ? (double)(sim->step - step0) / (double)PetscMax(1, step_stop - step0)
+                                   : (double)((sim->time - time0) / PetscMax(sim->run.t_final - time0, 1e-300));
         PetscCall(PetscPrintf(sim->comm, "  t = %.5g s (%4.1f%%), step %lld, %.3g steps/s, %s elapsed, about %s left\n", (double)sim->time,
                               100.0 * done, (long long)sim->step, (double)(sim->step - step0) / elapsed, Duration(elapsed).c_str(),
                               Duration(elapsed * (1.0 - done) / PetscMax(done, 1e-12)).c_str()));
@@ -166,18 +254,33 @@ PetscErrorCode SimulationRun(Simulation *sim)
       }
     }
   }
-  sim->wall_run = MPI_Wtime() - t0;
+  sim->wall_run  = MPI_Wtime() - t0;
+  sim->steps_run = sim->step - step0;
 
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
-  if (sim->run.write_particles) PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+  if (dem && sim->run.write_particles)
+    PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+  if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
+    PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(PetscPrintf(
-    sim->comm, "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-    (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
-    sim->wall_run > 0 ? (double)tot.count * (double)(sim->step - step0) / sim->wall_run / size : 0.0));
+  if (dem)
+    PetscCall(PetscPrintf(
+      sim->comm,
+      "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
+      (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+      sim->wall_run > 0 ? (double)tot.count * (double)sim->steps_run / sim->wall_run / size : 0.0));
+  if (sim->fluid) {
+    const FluidStats &fs = FluidGetStats(sim->fluid);
+    PetscCall(PetscPrintf(
+      sim->comm,
+      "Gas: %lld steps, t = %.6g s, %.3f s wall; pressure: %.1f iterations and %.3g ms per solve; max |div(eps u)| %.3g 1/s; in %.6g, out "
+      "%.6g m^3/s\n",
+      (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
+      fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -186,6 +289,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscFunctionBeginUser;
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
+  PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));
   PetscCall(DemDestroy(&(*sim)->dem));
   PetscCall(GridsDestroy(&(*sim)->grids));

@@ -94,6 +94,8 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
       ratio[a] = 1;
       continue;
     }
+    PetscCheck(d_max > 0 || (set_n[a] && nf[a] > 0), comm, PETSC_ERR_USER_INPUT, "-grid_n%s is required without particles (-particles 0)",
+               AxisName[a]);
     if (!set_n[a] || nf[a] == 0) {
       // no fluid grid given: particle cells of about the target size, fluid cells from the ratio (default 1)
       const PetscInt nc = PetscMax(1, (PetscInt)std::floor(dom.len[a] / target));

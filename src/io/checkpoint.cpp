@@ -59,13 +59,16 @@ PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(name, sizeof(name), "snapshot_%05d.h5", (int)o.series.size()));
   const std::string path = std::string(sim->run.output_dir) + "/" + name;
-  PetscCall(ParticlesGlobalCount(sim->swarm, &n));
+  n                      = 0;
+  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
   PetscCall(PetscViewerHDF5Open(sim->comm, path.c_str(), FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-  PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+  if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+  if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
   PetscCall(PetscViewerDestroy(&viewer));
   o.series.push_back({sim->time, name, n});
-  PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, o.series));
+  if (sim->swarm) PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, o.series));
+  if (sim->fluid) PetscCall(XdmfWriteFluid(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid, o.series));
   PetscFunctionReturn(0);
 }
 
@@ -78,14 +81,14 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(DemSyncPairHistory(sim->dem)); // both particles of every pair carry the current history
+  if (sim->dem) PetscCall(DemSyncPairHistory(sim->dem)); // both particles of every pair carry the current history
   PetscCall(PetscViewerHDF5Open(sim->comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
   PetscCall(WriteCount(viewer, "step", sim->step));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
+  if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
-  PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+  if (sim->dem) PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
@@ -109,7 +112,8 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
       PetscCall(VecDestroy(&v));
     }
   }
-  PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
+  if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
+  if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscCall(CommitFile(sim->comm, path));
   PetscFunctionReturn(0);
@@ -130,13 +134,18 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
   PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,
              (int)sim->domain.dim);
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
-  PetscCheck(PetscAbsReal(dt - sim->dem->par.dt) <= 1e-12 * dt, sim->comm, PETSC_ERR_USER_INPUT,
-             "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
-             o.restart, (double)dt, (double)sim->dem->par.dt);
+  if (sim->dem) {
+    PetscBool has_dt;
+    PetscCall(PetscViewerHDF5HasAttribute(viewer, "/", "dt", &has_dt));
+    PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
+    PetscCheck(PetscAbsReal(dt - sim->dem->par.dt) <= 1e-12 * dt, sim->comm, PETSC_ERR_USER_INPUT,
+               "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
+               o.restart, (double)dt, (double)sim->dem->par.dt);
+    PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
+  }
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
   PetscCall(ReadCount(viewer, "step", &sim->step));
-  PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshot_next", PETSC_REAL, NULL, &o.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
@@ -163,16 +172,24 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCall(VecRestoreArrayRead(v, &a));
     PetscCall(VecDestroy(&v));
   }
-  PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
+  if (sim->swarm) {
+    PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
+    PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
+  }
+  if (sim->fluid) {
+    PetscBool has;
+    PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
+    PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
+    PetscCall(FluidReadHDF5(sim->fluid, viewer));
+  }
   PetscCall(PetscViewerDestroy(&viewer));
-  PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
 {
   OutputSchedule &o  = sim->output;
-  const PetscReal dt = sim->dem->par.dt, eps = 0.5 * dt;
+  const PetscReal dt = sim->dem ? sim->dem->par.dt : FluidGetStats(sim->fluid).dt, eps = 0.5 * dt;
 
   PetscFunctionBeginUser;
   if (o.interval > 0 && sim->time >= o.next - eps) {

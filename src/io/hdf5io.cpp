@@ -1,4 +1,5 @@
 #include "fluidbed/hdf5io.hpp"
+#include "fluidbed/fluid.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -210,6 +211,57 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
   }
   x << "  </Grid>\n </Domain>\n</Xdmf>\n";
   const std::string path = dir + "/particles.xmf";
+  std::ofstream(path + ".tmp") << x.str();
+  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid,
+                              const std::vector<SnapshotRecord> &series)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank) PetscFunctionReturn(0);
+  const int          dim = (int)dom.dim;
+  std::ostringstream cells, nodes, origin, spacing;
+  // XDMF orders axes slowest first: (z,) y, x
+  for (int a = dim - 1; a >= 0; --a) {
+    cells << grid.n[a] << (a ? " " : "");
+    nodes << grid.n[a] + 1 << (a ? " " : "");
+    origin << dom.lo[a] << (a ? " " : "");
+    spacing << grid.h[a] << (a ? " " : "");
+  }
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"gas\" GridType=\"Collection\" "
+       "CollectionType=\"Temporal\">\n";
+  for (const SnapshotRecord &s : series) {
+    auto heavy = [&](const char *name, int comps) {
+      std::ostringstream d;
+      d << "<DataItem Dimensions=\"" << cells.str() << (comps > 1 ? " " + std::to_string(comps) : "")
+        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/fluid/" << name << "</DataItem>";
+      return d.str();
+    };
+    x << "   <Grid Name=\"gas\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n";
+    x << "    <Topology TopologyType=\"" << dim << "DCoRectMesh\" Dimensions=\"" << nodes.str() << "\"/>\n";
+    x << "    <Geometry GeometryType=\"" << (dim == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") << "\">\n";
+    x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << origin.str() << "</DataItem>\n";
+    x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << spacing.str() << "</DataItem>\n    </Geometry>\n";
+    for (const char *name : {"pressure", "void_fraction"})
+      x << "    <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Cell\">" << heavy(name, 1) << "</Attribute>\n";
+    if (dim == 3)
+      x << "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Cell\">" << heavy("velocity", 3) << "</Attribute>\n";
+    else
+      for (int c = 0; c < 2; ++c) // XDMF vectors have three components: give the 2D components as scalars
+        x << "    <Attribute Name=\"velocity_"
+          << "xy"[c] << "\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" Dimensions=\"" << cells.str()
+          << " 1\"><DataItem Dimensions=\"3 3\" Format=\"XML\">0 0 " << c << " 1 1 1 " << cells.str() << " 1</DataItem>"
+          << heavy("velocity", 2) << "</DataItem></Attribute>\n";
+    x << "   </Grid>\n";
+  }
+  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  const std::string path = dir + "/fluid.xmf";
   std::ofstream(path + ".tmp") << x.str();
   PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
   PetscFunctionReturn(0);

@@ -1,4 +1,5 @@
 #include "fluidbed/io.hpp"
+#include "fluidbed/fluid.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 
@@ -79,8 +80,8 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionBeginUser;
   m->interval = t_final / 200.0;
   PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities and tracked particles", "Output");
-  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200)", "s", NonNegative(),
-                        &m->interval, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200; 0: every step)", "s",
+                        NonNegative(), &m->interval, NULL));
   PetscCall(PetscOptionsIntArray("-track_ids", "Particle ids whose state goes to track.csv", "", ids, &nids, &set));
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
@@ -91,11 +92,14 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
     const bool        fresh = !append || access(path.c_str(), F_OK) != 0;
     m->csv                  = fopen(path.c_str(), fresh ? "w" : "a");
     PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path.c_str());
-    if (fresh)
-      fprintf(
-        m->csv,
-        "step,time,particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
-        "outlet_removed,rebuilds\n");
+    if (fresh) {
+    fprintf(m->csv, "step,time");
+    if (m->particles)
+      fprintf(m->csv, ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
+                      "outlet_removed,rebuilds");
+    if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
+    fprintf(m->csv, "\n");
+    }
     if (!m->track_ids.empty()) {
       const std::string tpath  = std::string(dir) + "/track.csv";
       const bool        tfresh = !append || access(tpath.c_str(), F_OK) != 0;
@@ -107,15 +111,23 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t)
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
+                            const FluidStats *fluid)
 {
   PetscFunctionBeginUser;
   (void)comm;
   if (m->csv) {
-    fprintf(m->csv, "%lld,%.10e,%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld\n", (long long)step, (double)time,
-            (long long)t.count, (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav,
-            (double)t.momentum[0], (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
-            (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
+    fprintf(m->csv, "%lld,%.10e", (long long)step, (double)time);
+    if (m->particles)
+      fprintf(m->csv, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count,
+              (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0],
+              (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
+              (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
+    if (m->fluid && fluid)
+      fprintf(m->csv, ",%.6e,%.6e,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed, (int)fluid->ksp_its,
+              (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div, (double)fluid->rhs_scale, (double)fluid->inflow,
+              (double)fluid->outflow);
+    fprintf(m->csv, "\n");
     fflush(m->csv);
   }
   PetscFunctionReturn(0);

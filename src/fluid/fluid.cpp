@@ -1,0 +1,517 @@
+// The gas phase: options, fields, the step (predictor, pressure, correction) and the fields the coupling uses.
+#include "fluid_impl.hpp"
+#include "fluidbed/io.hpp"
+#include "fluidbed/options.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <string>
+
+namespace fluidbed {
+
+const char *const FluidModelTypes[]   = {"B", "A", "FluidModel", "FLUID_MODEL_", NULL};
+const char *const FluidLimiterTypes[] = {"upwind", "vanleer", "koren", "minmod", "superbee", "Limiter", "LIMITER_", NULL};
+
+PetscErrorCode FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view)
+{
+  PetscInt dim, dof;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(dm, &dim, NULL, NULL, NULL, NULL, NULL, NULL, &dof, NULL, NULL, NULL, NULL, NULL));
+  if (ghosted) PetscCall(DMDAGetGhostCorners(dm, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
+  else PetscCall(DMDAGetCorners(dm, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
+  if (dim == 2) {
+    view->s[2] = 0;
+    view->m[2] = 1;
+  }
+  view->dof = dof;
+  PetscCall(VecGetArray(v, &view->a));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FieldRestore(Vec v, FieldView *view)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecRestoreArray(v, &view->a));
+  view->a = nullptr;
+  PetscFunctionReturn(0);
+}
+
+namespace {
+
+// A DMDA with the fine grid's layout (sizes, process grid, ownership); ghosted: DM_BOUNDARY_GHOSTED on the
+// non-periodic directions, so that every rank has ghost layers beyond the boundaries.
+PetscErrorCode CreateLayoutDA(Fluid *f, PetscInt dof, DMDAStencilType st, PetscInt sw, PetscBool ghosted, DM *da)
+{
+  const std::vector<PetscInt> *own = f->grid->own;
+  DMBoundaryType               bt[3];
+  PetscInt                     procs[3] = {1, 1, 1};
+
+  PetscFunctionBeginUser;
+  for (int a = 0; a < 3; ++a) {
+    bt[a] = f->periodic[a] ? DM_BOUNDARY_PERIODIC : (ghosted ? DM_BOUNDARY_GHOSTED : DM_BOUNDARY_NONE);
+    if (a < f->dim) procs[a] = (PetscInt)own[a].size();
+  }
+  if (f->dim == 2) {
+    PetscCall(DMDACreate2d(f->comm, bt[0], bt[1], st, f->n[0], f->n[1], procs[0], procs[1], dof, sw, own[0].data(), own[1].data(), da));
+  } else {
+    PetscCall(DMDACreate3d(f->comm, bt[0], bt[1], bt[2], st, f->n[0], f->n[1], f->n[2], procs[0], procs[1], procs[2], dof, sw,
+                           own[0].data(), own[1].data(), own[2].data(), da));
+  }
+  PetscCall(DMSetUp(*da));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidReadOptions(Fluid *f)
+{
+  PetscInt  n;
+  PetscBool set;
+  PetscEnum model = (PetscEnum)f->model, lim = (PetscEnum)f->limiter;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(f->comm, "fluid_", "Gas phase: volume-averaged incompressible flow (seed eq. 2.19-2.20)", "Fluid");
+  PetscCall(OptionsEnum(PetscOptionsObject, "-model", "Momentum equation: B (-grad p, rho_g g; the seed's) or A (-eps grad p, eps rho_g g)",
+                        FluidModelTypes, &model, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-rho", "Gas density", "kg/m^3", Positive(1e5), &f->rho, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Gas dynamic viscosity", "Pa s", Positive(1e3), &f->mu, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-limiter", "TVD limiter of the convective fluxes", FluidLimiterTypes, &lim, NULL));
+  PetscCall(
+    PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
+  n = 3;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force",
+                             "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)", "N/m^3",
+                             Closed(-1e9, 1e9), f->body_force, &n, PETSC_TRUE, NULL));
+  n = 3;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-initial_velocity", "Initial superficial gas velocity ux,uy,uz", "m/s", Closed(-1e4, 1e4),
+                             f->initial_velocity, &n, PETSC_TRUE, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Fixed gas time step (0: from the CFL and viscous limits at every step)", "s",
+                        NonNegative(1e3), &f->dt_fixed, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-cfl", "Fraction of the combined convective + viscous explicit limit used as the step", "",
+                        Closed(0.01, 1.0), &f->cfl, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse",
+                       "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A)", 1, 1000000,
+                       &f->pc_reuse, NULL));
+  PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells,
+                             &f->output_cells, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",
+                        {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
+  n = 5;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere", "Frozen sphere (circle in 2D) of void fraction: centre x,y,z, radius, eps",
+                             "m,m,m,m,-", Closed(-100.0, 100.0), f->eps_sphere, &n, PETSC_TRUE, &f->has_sphere));
+  n = 3;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_sphere_velocity",
+                             "Velocity of the frozen sphere: its void fraction field moves with it", "m/s", Closed(-1e3, 1e3),
+                             f->sphere_velocity, &n, PETSC_TRUE, NULL));
+  n = 2;
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-eps_packed_bed",
+                             "Frozen packed bed: the cells below height get void fraction eps: height,eps", "m,-", Closed(0.0, 100.0),
+                             f->eps_bed, &n, PETSC_TRUE, &f->has_bed));
+  PetscOptionsEnd();
+  f->model   = (FluidModel)model;
+  f->limiter = (kernels::Limiter)lim;
+  PetscCheck(!f->has_sphere || (f->eps_sphere[4] > 0 && f->eps_sphere[4] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fluid_eps_sphere: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_sphere[4]);
+  PetscCheck(!f->has_sphere || f->eps_sphere[3] > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fluid_eps_sphere: radius %.6g m is out of range: allowed (0, inf)", (double)f->eps_sphere[3]);
+  PetscCheck(!f->has_bed || (f->eps_bed[1] > 0 && f->eps_bed[1] <= 1), f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fluid_eps_packed_bed: void fraction %.6g is out of range: allowed (0, 1]", (double)f->eps_bed[1]);
+  (void)set;
+  PetscFunctionReturn(0);
+}
+
+// Frozen void fraction at time t: uniform, then the packed bed, then the sphere (centre moving with its velocity).
+PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
+{
+  FieldView e;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    PetscReal      x[3], r2 = 0;
+    PetscScalar    val = f->eps_uniform;
+    for (int a = 0; a < 3; ++a) x[a] = f->dom->lo[a] + (c[a] + 0.5) * f->h[a];
+    if (f->has_bed && x[1] < f->dom->lo[1] + f->eps_bed[0]) val = f->eps_bed[1];
+    for (int a = 0; a < f->dim; ++a) {
+      const PetscReal d = x[a] - (f->eps_sphere[a] + f->sphere_velocity[a] * t);
+      r2 += d * d;
+    }
+    if (f->has_sphere && r2 < f->eps_sphere[3] * f->eps_sphere[3]) val = f->eps_sphere[4];
+    e(i, j, k) = val;
+  });
+  PetscCall(FieldRestore(f->eps, &e));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ScatterScalars(Fluid *f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMGlobalToLocal(f->da_s, f->eps, INSERT_VALUES, f->eps_loc));
+  PetscCall(FluidFillGhosts(f, f->eps_loc, 0));
+  PetscCall(DMGlobalToLocal(f->da_s, f->eps_old, INSERT_VALUES, f->eps_old_loc));
+  PetscCall(FluidFillGhosts(f, f->eps_old_loc, 0));
+  PetscCall(DMGlobalToLocal(f->da_c, f->source, INSERT_VALUES, f->source_loc));
+  PetscFunctionReturn(0);
+}
+
+// Initial velocity: the superficial velocity divided by the face void fraction on the interior faces.
+PetscErrorCode SetInitialVelocity(Fluid *f)
+{
+  FieldView u, e;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    for (int a = 0; a < f->dim; ++a) u(i, j, k, a) = f->initial_velocity[a] / FaceEps(e, c, a);
+  });
+  PetscCall(FieldRestore(f->eps_loc, &e));
+  PetscCall(FieldRestore(f->u, &u));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid &grid, PhaseLog *log, Fluid **fluid)
+{
+  Fluid *f = new Fluid;
+
+  PetscFunctionBeginUser;
+  *fluid  = f;
+  f->comm = comm;
+  f->dom  = &domain;
+  f->grid = &grid;
+  f->log  = log;
+  f->dim  = domain.dim;
+  for (int a = 0; a < 3; ++a) {
+    f->n[a]        = a < f->dim ? grid.n[a] : 1;
+    f->h[a]        = a < f->dim ? grid.h[a] : domain.len[2];
+    f->periodic[a] = (PetscBool)(a < f->dim && domain.periodic[a]);
+  }
+  for (int a = 0; a < 3; ++a) f->area[a] = f->h[(a + 1) % 3] * f->h[(a + 2) % 3];
+  f->vol = f->h[0] * f->h[1] * f->h[2];
+  PetscCall(FluidReadOptions(f));
+  PetscCall(FluidReadBoundaryOptions(f));
+
+  PetscCall(CreateLayoutDA(f, 1, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_s));
+  PetscCall(CreateLayoutDA(f, f->dim, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_u));
+  PetscCall(CreateLayoutDA(f, f->dim, DMDA_STENCIL_STAR, 1, PETSC_FALSE, &f->da_c));
+  PetscCall(CreateLayoutDA(f, 1, DMDA_STENCIL_STAR, 1, PETSC_FALSE, &f->da_p));
+  PetscCall(PetscObjectSetName((PetscObject)f->da_p, "fluid_pressure_grid"));
+  PetscCall(DMDAGetCorners(f->da_p, &f->xs[0], &f->xs[1], &f->xs[2], &f->xm[0], &f->xm[1], &f->xm[2]));
+  if (f->dim == 2) {
+    f->xs[2] = 0;
+    f->xm[2] = 1;
+  }
+  PetscCall(DMCreateGlobalVector(f->da_u, &f->u));
+  PetscCall(PetscObjectSetName((PetscObject)f->u, "face_velocity"));
+  PetscCall(DMCreateLocalVector(f->da_u, &f->u_loc));
+  PetscCall(DMCreateGlobalVector(f->da_p, &f->eps));
+  PetscCall(PetscObjectSetName((PetscObject)f->eps, "void_fraction"));
+  PetscCall(VecDuplicate(f->eps, &f->eps_old));
+  PetscCall(VecDuplicate(f->eps, &f->phi));
+  PetscCall(VecDuplicate(f->eps, &f->rhs));
+  PetscCall(VecDuplicate(f->eps, &f->p));
+  PetscCall(VecDuplicate(f->eps, &f->u_top));
+  PetscCall(PetscObjectSetName((PetscObject)f->p, "pressure"));
+  PetscCall(DMCreateLocalVector(f->da_s, &f->eps_loc));
+  PetscCall(VecDuplicate(f->eps_loc, &f->eps_old_loc));
+  PetscCall(VecDuplicate(f->eps_loc, &f->u_top_loc));
+  PetscCall(DMCreateLocalVector(f->da_p, &f->phi_loc));
+  PetscCall(DMCreateGlobalVector(f->da_c, &f->source));
+  PetscCall(PetscObjectSetName((PetscObject)f->source, "momentum_source"));
+  PetscCall(VecDuplicate(f->source, &f->cell_u));
+  PetscCall(PetscObjectSetName((PetscObject)f->cell_u, "cell_velocity"));
+  PetscCall(DMCreateLocalVector(f->da_c, &f->source_loc));
+  PetscCall(VecSet(f->eps, 1.0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetUp(Fluid *f)
+{
+  kernels::StepRates r;
+
+  PetscFunctionBeginUser;
+  PetscCall(SetFrozenVoidFraction(f, 0.0));
+  PetscCall(VecCopy(f->eps, f->eps_old));
+  PetscCall(ScatterScalars(f));
+  PetscCall(SetInitialVelocity(f));
+  PetscCall(FluidSetBoundaryFaces(f, 0.0, PETSC_FALSE));
+  PetscCall(FluidScatterVelocity(f));
+  PetscCall(FluidPressureCreate(f));
+  PetscCall(FluidStepRates(f, &r));
+  f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
+  f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
+  PetscCall(FluidFlowRates(f, &f->stats.inflow, &f->stats.outflow));
+  if (f->dt_fixed > 0) {
+    PetscReal dt_max;
+    PetscCall(FluidMaxTimeStep(f, &dt_max));
+    PetscCheck(f->dt_fixed <= dt_max * (1 + 1e-12), f->comm, PETSC_ERR_USER_INPUT,
+               "-fluid_dt %.6g s exceeds the gas time-step limit %.6g s (convective %.6g s, viscous %.6g s at -fluid_cfl %.6g)",
+               (double)f->dt_fixed, (double)dt_max, (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)f->cfl);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidMaxTimeStep(Fluid *f, PetscReal *dt)
+{
+  kernels::StepRates r;
+
+  PetscFunctionBeginUser;
+  // the void fraction the coupling may have written since the last step
+  PetscCall(DMGlobalToLocal(f->da_s, f->eps, INSERT_VALUES, f->eps_loc));
+  PetscCall(FluidFillGhosts(f, f->eps_loc, 0));
+  PetscCall(FluidStepRates(f, &r));
+  f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
+  f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
+  *dt              = f->cfl / (r.conv + r.visc);
+  PetscFunctionReturn(0);
+}
+
+PetscReal FluidFixedTimeStep(const Fluid *f)
+{
+  return f->dt_fixed;
+}
+
+PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PhaseBegin(f->log, PHASE_FLUID));
+  if (f->has_sphere && (f->sphere_velocity[0] != 0 || f->sphere_velocity[1] != 0 || f->sphere_velocity[2] != 0))
+    PetscCall(SetFrozenVoidFraction(f, f->time + dt)); // gas-only scenes: the void fraction at the end of the step
+  PetscCall(ScatterScalars(f));
+  PetscCall(FluidScatterVelocity(f));
+  PetscCall(FluidPredictor(f, dt));
+  PetscCall(FluidSetBoundaryFaces(f, dt, PETSC_TRUE));
+  PetscCall(FluidScatterVelocity(f));
+  PetscCall(PhaseEnd(f->log, PHASE_FLUID));
+
+  PetscCall(PhaseBegin(f->log, PHASE_PRESSURE));
+  PetscCall(FluidPressureSolve(f, dt));
+  PetscCall(PhaseEnd(f->log, PHASE_PRESSURE));
+
+  PetscCall(PhaseBegin(f->log, PHASE_FLUID));
+  PetscCall(FluidCorrect(f, dt));
+  PetscCall(FluidScatterVelocity(f));
+  PetscCall(FluidDivergence(f, dt, &f->stats.max_div));
+  PetscCall(FluidFlowRates(f, &f->stats.inflow, &f->stats.outflow));
+  PetscCall(VecCopy(f->eps, f->eps_old));
+  PetscCall(VecAXPBY(f->p, f->rho / dt, 0.0, f->phi));
+  f->stats.dt = dt;
+  f->stats.steps++;
+  f->time += dt;
+  PetscCall(PhaseEnd(f->log, PHASE_FLUID));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetVoidFraction(Fluid *f, Vec *eps)
+{
+  PetscFunctionBeginUser;
+  *eps = f->eps;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetMomentumSource(Fluid *f, Vec *source)
+{
+  PetscFunctionBeginUser;
+  *source = f->source;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetPressure(Fluid *f, Vec *p)
+{
+  PetscFunctionBeginUser;
+  *p = f->p;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetCellDMs(Fluid *f, DM *scalar, DM *vector)
+{
+  PetscFunctionBeginUser;
+  if (scalar) *scalar = f->da_p;
+  if (vector) *vector = f->da_c;
+  PetscFunctionReturn(0);
+}
+
+const FluidStats &FluidGetStats(const Fluid *f)
+{
+  return f->stats;
+}
+PetscBool FluidWantsCellsCSV(const Fluid *f)
+{
+  return f->output_cells;
+}
+
+PetscErrorCode FluidGetCellVelocity(Fluid *f, Vec *velocity)
+{
+  FieldView u, c;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(FieldGet(f->da_c, f->cell_u, PETSC_FALSE, &c));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    for (int a = 0; a < f->dim; ++a) c(i, j, k, a) = 0.5 * (u(i, j, k, a) + u(i + (a == 0), j + (a == 1), k + (a == 2), a));
+  });
+  PetscCall(FieldRestore(f->cell_u, &c));
+  PetscCall(FieldRestore(f->u_loc, &u));
+  *velocity = f->cell_u;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
+{
+  const char *model = f->model == FLUID_MODEL_B ? "B (-grad p, rho_g g)" : "A (-eps grad p, eps rho_g g)";
+  std::string bcs;
+  PetscReal   dt = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Gas: rho %.6g kg/m^3, mu %.4g Pa s, model %s, %s limiter, d(eps)/dt %s\n", (double)f->rho,
+                                   (double)f->mu, model, FluidLimiterTypes[(int)f->limiter], f->deps_dt ? "kept" : "dropped (seed)"));
+  for (int face = 0; face < 2 * f->dim; ++face) {
+    if (!bcs.empty()) bcs += ", ";
+    bcs += std::string(FluidFaceKeys[face]) + " " + (f->periodic[face / 2] ? "periodic" : FluidBCTypes[f->bc[face]]);
+  }
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Gas boundaries: %s\n", bcs.c_str()));
+  if (f->inflow_rate != 0 || !f->jets.empty())
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Gas inlet: distributor %.6g m/s, %d slit(s), inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
+      (double)f->inlet_velocity, (int)f->jets.size(), (double)f->inflow_rate,
+      (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
+  for (std::size_t s = 0; s < f->jets.size(); ++s)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  slit %d: x = %.6g..%.6g mm (cells %ld..%ld), %.6g m/s\n", (int)s + 1,
+                                     1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]),
+                                     f->jets[s].first, f->jets[s].last - 1, f->jets[s].velocity));
+  PetscCall(FluidMaxTimeStep(f, &dt));
+  {
+    char conv[32] = "inf (gas at rest)";
+    if (f->stats.dt_conv < PETSC_MAX_REAL) PetscCall(PetscSNPrintf(conv, sizeof(conv), "%.4g s", (double)f->stats.dt_conv));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Gas time step limits (-fluid_cfl %.3g, %s limiter): convective %s, viscous %.4g s, combined %.4g s; %s %.4g s\n",
+      (double)f->cfl, FluidLimiterTypes[(int)f->limiter], conv, (double)f->stats.dt_visc, (double)dt,
+      f->dt_fixed > 0 ? "fixed step (-fluid_dt)" : "step follows the limits, now", (double)(f->dt_fixed > 0 ? f->dt_fixed : dt)));
+  }
+  {
+    const char *ktype, *ptype;
+    PetscCall(FluidSolverNames(f, &ktype, &ptype));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Pressure: %s Poisson equation, %s + %s (-fluid_p_ksp_type, -fluid_p_pc_type)%s\n",
+                                     f->model == FLUID_MODEL_B ? "constant-coefficient" : "variable-coefficient (eps)", ktype, ptype,
+                                     f->has_dirichlet ? ", p = 0 at the outlet" : ", pure Neumann (constant null space)"));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidAddSummary(Fluid *f, JsonWriter *json)
+{
+  const FluidStats &s = f->stats;
+  JsonWriter        g;
+  const char       *kt, *pt;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidSolverNames(f, &kt, &pt));
+  g.String("model", FluidModelTypes[f->model]);
+  g.Integer("steps", (long long)s.steps);
+  g.Number("dt_last", s.dt);
+  g.Number("dt_conv", s.dt_conv);
+  g.Number("dt_visc", s.dt_visc);
+  g.String("ksp_type", kt);
+  g.String("pc_type", pt);
+  g.Integer("pressure_solves", (long long)s.solves);
+  g.Integer("pressure_pc_setups", (long long)s.pc_setups);
+  g.Number("pressure_iterations_per_solve", s.solves ? (double)s.ksp_its_total / (double)s.solves : 0.0);
+  g.Number("pressure_time_per_solve", s.solves ? s.ksp_time_total / (double)s.solves : 0.0);
+  g.Integer("pressure_iterations_last", (long long)s.ksp_its);
+  g.Number("pressure_residual_last", s.ksp_rnorm);
+  g.Number("pressure_time_last", s.ksp_time);
+  g.Number("max_div", s.max_div);
+  g.Number("max_speed", s.max_speed);
+  g.Number("inflow", s.inflow);
+  g.Number("outflow", s.outflow);
+  json->Object("fluid", g);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidWriteCellsCSV(Fluid *f, const char *path)
+{
+  constexpr int          kCols = 12; // index, eps, p, u, v, w, ufx, ufy, ufz + padding
+  PetscMPIInt            rank, size;
+  FieldView              u, e, p;
+  Vec                    cu;
+  FieldView              c;
+  std::vector<PetscReal> rows;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
+  PetscCallMPI(MPI_Comm_size(f->comm, &size));
+  PetscCall(FluidGetCellVelocity(f, &cu));
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  PetscCall(FieldGet(f->da_p, f->p, PETSC_FALSE, &p));
+  PetscCall(FieldGet(f->da_c, cu, PETSC_FALSE, &c));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    PetscReal r[kCols] = {0};
+    r[0]               = (PetscReal)(i + f->n[0] * (j + f->n[1] * k)); // natural index, exact below 2^53
+    r[1]               = e(i, j, k);
+    r[2]               = p(i, j, k);
+    for (int a = 0; a < f->dim; ++a) {
+      r[3 + a] = c(i, j, k, a);
+      r[6 + a] = u(i, j, k, a);
+    }
+    rows.insert(rows.end(), r, r + kCols);
+  });
+  PetscCall(FieldRestore(cu, &c));
+  PetscCall(FieldRestore(f->p, &p));
+  PetscCall(FieldRestore(f->eps_loc, &e));
+  PetscCall(FieldRestore(f->u_loc, &u));
+
+  int              nloc = (int)rows.size();
+  std::vector<int> counts(size), displs(size, 0);
+  PetscCallMPI(MPI_Gather(&nloc, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, f->comm));
+  std::vector<PetscReal> all;
+  if (!rank) {
+    for (int q = 1; q < size; ++q) displs[q] = displs[q - 1] + counts[q - 1];
+    all.resize((std::size_t)(displs[size - 1] + counts[size - 1]));
+  }
+  PetscCallMPI(MPI_Gatherv(rows.data(), nloc, MPIU_REAL, all.data(), counts.data(), displs.data(), MPIU_REAL, 0, f->comm));
+  if (!rank) {
+    const std::size_t        ncell = all.size() / kCols;
+    std::vector<std::size_t> order(ncell);
+    for (std::size_t q = 0; q < ncell; ++q) order[(std::size_t)all[q * kCols]] = q;
+    FILE *fp = fopen(path, "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
+    fprintf(fp, "i,j,k,x,y,z,eps,p,u,v,w,ufx,ufy,ufz\n");
+    for (std::size_t q = 0; q < ncell; ++q) {
+      const PetscReal *r  = &all[order[q] * kCols];
+      const long       id = (long)q, i = id % f->n[0], j = (id / f->n[0]) % f->n[1], k = id / (f->n[0] * f->n[1]);
+      const long       ijk[3] = {i, j, k};
+      fprintf(fp, "%ld,%ld,%ld", i, j, k);
+      for (int a = 0; a < 3; ++a) fprintf(fp, ",%.10g", (double)(f->dom->lo[a] + (ijk[a] + 0.5) * (a < f->dim ? f->h[a] : f->dom->len[2])));
+      for (int col = 1; col < 9; ++col) fprintf(fp, ",%.17g", (double)r[col]);
+      fprintf(fp, "\n");
+    }
+    fclose(fp);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidDestroy(Fluid **fluid)
+{
+  Fluid *f = *fluid;
+
+  PetscFunctionBeginUser;
+  if (!f) PetscFunctionReturn(0);
+  PetscCall(FluidPressureDestroy(f));
+  Vec *vecs[] = {&f->u,      &f->u_loc, &f->eps,     &f->eps_old, &f->eps_loc, &f->eps_old_loc, &f->source,   &f->source_loc,
+                 &f->cell_u, &f->phi,   &f->phi_loc, &f->rhs,     &f->p,       &f->u_top,       &f->u_top_loc};
+  for (Vec *v : vecs) PetscCall(VecDestroy(v));
+  PetscCall(DMDestroy(&f->da_s));
+  PetscCall(DMDestroy(&f->da_u));
+  PetscCall(DMDestroy(&f->da_c));
+  PetscCall(DMDestroy(&f->da_p));
+  delete f;
+  *fluid = nullptr;
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

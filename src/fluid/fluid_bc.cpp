@@ -1,0 +1,278 @@
+// Gas boundary conditions: the options of each face and of the bottom inlet, the boundary face velocities, and the
+// ghost layers beyond the walls that let the interior stencils run unchanged up to the boundary.
+#include "fluid_impl.hpp"
+#include "fluidbed/options.hpp"
+
+#include <string>
+
+namespace fluidbed {
+
+const char *const FluidBCTypes[]            = {"noslip", "freeslip", "outlet", "pressure", "FluidBC", "FLUID_BC_", NULL};
+const char *const FluidFaceKeys[FACE_COUNT] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+
+namespace {
+
+bool TopIsOutlet(const Fluid *f)
+{
+  return !f->periodic[1] && (f->bc[FACE_YHI] == FLUID_BC_OUTLET || f->bc[FACE_YHI] == FLUID_BC_PRESSURE);
+}
+
+// The bottom slits: centre, width, velocity triplets, checked against the fluid cells along x.
+PetscErrorCode ReadJets(Fluid *f, const PetscReal *vals, PetscInt n)
+{
+  const PetscReal h = f->h[0], x0 = f->dom->lo[0];
+
+  PetscFunctionBeginUser;
+  PetscCheck(n % 3 == 0, f->comm, PETSC_ERR_USER_INPUT,
+             "-inlet_jets takes centre,width,velocity for each slit (a multiple of 3 values), got %d values", (int)n);
+  for (PetscInt s = 0; s < n / 3; ++s) {
+    const PetscReal c = vals[3 * s], w = vals[3 * s + 1], v = vals[3 * s + 2];
+    PetscCheck(w > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d has width %.6g m: allowed (0, %.6g] m", (int)s + 1, (double)w,
+               (double)f->dom->len[0]);
+    const kernels::JetSnap snap = kernels::snap_jet(c, w, x0, h, f->n[0]);
+    PetscCheck(snap.inside, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "-inlet_jets: jet %d (centre %.6g mm, width %.6g mm) extends beyond the bottom, x = %.6g..%.6g mm", (int)s + 1, 1e3 * c,
+               1e3 * w, 1e3 * x0, 1e3 * f->dom->hi[0]);
+    if (!snap.ok) {
+      if (snap.centre_ok)
+        SETERRQ(f->comm, PETSC_ERR_USER_INPUT,
+                "-inlet_jets: jet %d (centre %.4f mm, width %.4f mm): its edges x = %.4f and %.4f mm do not fall on cell faces (fluid "
+                "cells of %.6f mm along x); "
+                "the nearest valid width is %.8g m (%ld cells)",
+                (int)s + 1, 1e3 * c, 1e3 * w, 1e3 * (c - 0.5 * w), 1e3 * (c + 0.5 * w), 1e3 * h, (double)snap.nearest_width,
+                snap.nearest_cells);
+      SETERRQ(f->comm, PETSC_ERR_USER_INPUT,
+              "-inlet_jets: jet %d (centre %.4f mm, width %.4f mm): its edges x = %.4f and %.4f mm do not fall on cell faces (fluid cells "
+              "of %.6f mm along x), "
+              "and no width does at this centre; the nearest valid centre is %.8g m, with widths that are whole numbers of cells (nearest "
+              "%.8g m)",
+              (int)s + 1, 1e3 * c, 1e3 * w, 1e3 * (c - 0.5 * w), 1e3 * (c + 0.5 * w), 1e3 * h, (double)snap.nearest_centre,
+              (double)(std::max(1.0, std::round(w / h)) * h));
+    }
+    for (std::size_t q = 0; q < f->jets.size(); ++q)
+      PetscCheck(snap.last <= f->jets[q].first || snap.first >= f->jets[q].last, f->comm, PETSC_ERR_USER_INPUT,
+                 "-inlet_jets: jets %d and %d overlap", (int)q + 1, (int)s + 1);
+    f->jets.push_back({snap.first, snap.last, v});
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
+{
+  PetscReal jets[96] = {0};
+  PetscInt  njets    = 96;
+  PetscBool set_bc[FACE_COUNT]{}, set_jets = PETSC_FALSE, set_inlet = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(f->comm, "fluid_bc_", "Gas boundary conditions of each face (x/y/z lo/hi; periodic faces come from -domain_periodic_*)",
+                    "Fluid");
+  for (int face = 0; face < 2 * f->dim; ++face) {
+    const std::string name = std::string("-") + FluidFaceKeys[face], vname = name + "_velocity";
+    const std::string help = std::string("Gas condition on the ") + FaceNames[face] + " face: noslip or freeslip wall" +
+                             (face == FACE_YHI ? ", outlet (uniform, mass-conserving: the seed's) or pressure (p = 0)" : "");
+    PetscEnum type = (PetscEnum)f->bc[face];
+    PetscInt  n    = 3;
+    PetscCall(OptionsEnum(PetscOptionsObject, name.c_str(), help.c_str(), FluidBCTypes, &type, &set_bc[face]));
+    f->bc[face] = (FluidBC)type;
+    PetscCall(OptionsRealArray(PetscOptionsObject, vname.c_str(), "Velocity ux,uy,uz of a moving no-slip wall (tangential components only)",
+                               "m/s", Closed(-1e4, 1e4), f->wall_velocity[face], &n, PETSC_TRUE, NULL));
+    PetscCheck(f->wall_velocity[face][face / 2] == 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "%s: the wall-normal component %.6g m/s must be 0 (walls do not move through themselves)",
+               OptionName(PetscOptionsObject, vname.c_str()), (double)f->wall_velocity[face][face / 2]);
+    PetscCheck(!set_bc[face] || !f->periodic[face / 2], f->comm, PETSC_ERR_USER_INPUT, "%s: the face is periodic (-domain_periodic_%c)",
+               OptionName(PetscOptionsObject, name.c_str()), "xyz"[face / 2]);
+    PetscCheck(face == FACE_YHI || (f->bc[face] != FLUID_BC_OUTLET && f->bc[face] != FLUID_BC_PRESSURE), f->comm, PETSC_ERR_USER_INPUT,
+               "%s %s: outlets are at the top only (-fluid_bc_yhi)", OptionName(PetscOptionsObject, name.c_str()),
+               FluidBCTypes[f->bc[face]]);
+  }
+  PetscOptionsEnd();
+
+  PetscOptionsBegin(f->comm, "inlet_", "Gas inlet through the bottom (y = 0): a porous distributor and slits (jets) through the depth",
+                    "Fluid");
+  PetscCall(OptionsReal(PetscOptionsObject, "-velocity",
+                        "Superficial gas velocity through the distributor (the bottom outside the slits; 0: a wall)", "m/s",
+                        Closed(-1e3, 1e3), &f->inlet_velocity, &set_inlet));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-jets",
+                             "Slits through the depth: centre x [m], width [m], superficial velocity [m/s] of each, comma-separated",
+                             "m,m,m/s", Closed(-1e4, 1e4), jets, &njets, PETSC_FALSE, &set_jets));
+  PetscOptionsEnd();
+
+  if (set_jets) PetscCall(ReadJets(f, jets, njets));
+  const bool inflow = f->inlet_velocity != 0 || !f->jets.empty();
+  PetscCheck(!inflow || !f->periodic[1], f->comm, PETSC_ERR_USER_INPUT,
+             "-inlet_velocity / -inlet_jets need a bottom, but y is periodic (-domain_periodic_y)");
+  PetscCheck(!inflow || TopIsOutlet(f), f->comm, PETSC_ERR_USER_INPUT,
+             "gas flows in through the bottom (-inlet_velocity / -inlet_jets) but the top is closed: set -fluid_bc_yhi outlet (uniform, "
+             "the seed's) or pressure");
+  f->inlet      = kernels::inlet_profile(f->n[0], f->inlet_velocity, f->jets);
+  PetscReal sum = 0;
+  for (PetscReal v : f->inlet) sum += v;
+  f->inflow_rate   = sum * f->area[1] * f->n[2];
+  f->has_dirichlet = (PetscBool)(!f->periodic[1] && f->bc[FACE_YHI] == FLUID_BC_PRESSURE);
+  (void)set_inlet;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind)
+{
+  DM        dm = kind == 1 ? f->da_u : f->da_s;
+  FieldView v, top;
+  const int sw = 2;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(dm, loc, PETSC_TRUE, &v));
+  const bool outlet = kind == 1 && TopIsOutlet(f);
+  if (outlet) PetscCall(FieldGet(f->da_s, f->u_top_loc, PETSC_TRUE, &top));
+  for (int b = 0; b < f->dim; ++b) {
+    if (f->periodic[b]) continue;
+    for (int side = 0; side < 2; ++side) {
+      if (side == 0 ? f->xs[b] != 0 : f->xs[b] + f->xm[b] != f->n[b]) continue;
+      const int      face   = 2 * b + side;
+      const bool     noslip = f->bc[face] == FLUID_BC_NOSLIP;
+      const PetscInt nb     = f->n[b];
+      PetscInt       lo[3], hi[3];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = v.s[d];
+        hi[d] = v.s[d] + v.m[d];
+      }
+      for (int g = 1; g <= sw; ++g) {
+        const PetscInt pos = side ? nb - 1 + g : -g, mirror = side ? nb - g : g - 1;
+        lo[b] = pos;
+        hi[b] = pos + 1;
+        for (PetscInt k = lo[2]; k < hi[2]; ++k)
+          for (PetscInt j = lo[1]; j < hi[1]; ++j)
+            for (PetscInt i = lo[0]; i < hi[0]; ++i) {
+              PetscInt p[3] = {i, j, k}, q[3] = {i, j, k};
+              q[b] = mirror;
+              if (kind == 0) {
+                v.at(p) = v.at(q);
+                continue;
+              }
+              for (int c = 0; c < f->dim; ++c) {
+                if (c != b) {
+                  v.at(p, c) = noslip ? 2.0 * f->wall_velocity[face][c] - v.at(q, c) : v.at(q, c);
+                  continue;
+                }
+                PetscInt r[3] = {i, j, k}, s[3] = {i, j, k};
+                if (side == 0) { // faces -1, -2: odd reflection about the boundary face 0
+                  r[b]       = 0;
+                  s[b]       = g;
+                  v.at(p, c) = 2.0 * v.at(r, c) - v.at(s, c);
+                } else if (g == 1) { // the boundary face n itself
+                  r[b]       = nb - 1;
+                  v.at(p, c) = (outlet && b == 1) ? top.at(r) : 0.0;
+                } else { // face n + 1
+                  r[b]       = nb;
+                  s[b]       = nb - 1;
+                  v.at(p, c) = 2.0 * v.at(r, c) - v.at(s, c);
+                }
+              }
+            }
+      }
+    }
+  }
+  if (outlet) PetscCall(FieldRestore(f->u_top_loc, &top));
+  PetscCall(FieldRestore(loc, &v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidDepsSum(Fluid *f, PetscReal dt, PetscReal *sum)
+{
+  FieldView e, e0;
+  PetscReal loc = 0;
+
+  PetscFunctionBeginUser;
+  *sum = 0;
+  if (!f->deps_dt || !(dt > 0)) PetscFunctionReturn(0);
+  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  PetscCall(FieldGet(f->da_p, f->eps_old, PETSC_FALSE, &e0));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) { loc -= f->vol * (e(i, j, k) - e0(i, j, k)) / dt; });
+  PetscCall(FieldRestore(f->eps_old, &e0));
+  PetscCall(FieldRestore(f->eps, &e));
+  PetscCallMPI(MPI_Allreduce(&loc, sum, 1, MPIU_REAL, MPI_SUM, f->comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapolate)
+{
+  FieldView u, e;
+  PetscReal deps_sum;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidDepsSum(f, dt, &deps_sum));
+  const PetscReal outflow_rate = f->inflow_rate + deps_sum;
+  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
+  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  // lower faces: walls (0) and the bottom inlet (superficial velocity / eps)
+  for (int a = 0; a < f->dim; ++a) {
+    if (f->periodic[a] || f->xs[a] != 0) continue;
+    PetscInt lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = f->xs[d];
+      hi[d] = f->xs[d] + f->xm[d];
+    }
+    hi[a] = 1;
+    for (PetscInt k = lo[2]; k < hi[2]; ++k)
+      for (PetscInt j = lo[1]; j < hi[1]; ++j)
+        for (PetscInt i = lo[0]; i < hi[0]; ++i) u(i, j, k, a) = a == 1 ? f->inlet[i] / e(i, j, k) : 0.0;
+  }
+  // top outlet
+  if (TopIsOutlet(f) && f->xs[1] + f->xm[1] == f->n[1]) {
+    FieldView      top;
+    const PetscInt j = f->n[1] - 1;
+    PetscCall(FieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
+    for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
+        if (f->bc[FACE_YHI] == FLUID_BC_OUTLET) top(i, j, k) = outflow_rate / (f->area[1] * f->n[0] * f->n[2] * e(i, j, k));
+        else if (extrapolate) top(i, j, k) = u(i, j, k, 1); // the predicted velocity, zero normal gradient; corrected by p = 0
+        else top(i, j, k) = f->initial_velocity[1] / e(i, j, k);
+      }
+    PetscCall(FieldRestore(f->u_top, &top));
+  }
+  PetscCall(FieldRestore(f->eps, &e));
+  PetscCall(FieldRestore(f->u, &u));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidScatterVelocity(Fluid *f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMGlobalToLocal(f->da_u, f->u, INSERT_VALUES, f->u_loc));
+  if (TopIsOutlet(f)) {
+    PetscCall(DMGlobalToLocal(f->da_s, f->u_top, INSERT_VALUES, f->u_top_loc));
+    PetscCall(FluidFillGhosts(f, f->u_top_loc, 0));
+  }
+  PetscCall(FluidFillGhosts(f, f->u_loc, 1));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidFlowRates(Fluid *f, PetscReal *in, PetscReal *out)
+{
+  FieldView u, e;
+  PetscReal loc[2] = {0, 0}, glob[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  if (!f->periodic[1]) {
+    for (int side = 0; side < 2; ++side) {
+      if (side == 0 ? f->xs[1] != 0 : f->xs[1] + f->xm[1] != f->n[1]) continue;
+      const PetscInt j = side ? f->n[1] : 0;
+      for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+        for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
+          const PetscInt c[3] = {i, j, k};
+          loc[side] += FaceEps(e, c, 1) * u(i, j, k, 1) * f->area[1];
+        }
+    }
+  }
+  PetscCall(FieldRestore(f->eps_loc, &e));
+  PetscCall(FieldRestore(f->u_loc, &u));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_REAL, MPI_SUM, f->comm));
+  *in  = glob[0];
+  *out = glob[1];
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

@@ -1,0 +1,148 @@
+// The gas phase's internals, shared by src/fluid/*.cpp.
+//
+// Staggered (MAC) layout on the fine cell-centred DMDA: pressure, void fraction and sources at cell centres; the
+// velocity component a of entry (i,j,k) lives on the lower a-face of cell (i,j,k) (x = i h_x for a = x). The
+// upper boundary faces (index n_a along a) are not owned by anyone: they sit in the first ghost layer of the
+// ranks at that boundary and are written there by FluidFillGhosts. Non-periodic directions use
+// DM_BOUNDARY_GHOSTED so that every rank has ghost layers beyond the walls, filled from the boundary conditions.
+#pragma once
+
+#include <petscksp.h>
+
+#include <vector>
+
+#include "fluidbed/fluid.hpp"
+#include "fluidbed/kernels/fluid_flux.hpp"
+
+namespace fluidbed {
+
+// -fluid_model: B (seed eq. 2.20, -grad p, rho_g g) or A (-eps grad p, eps rho_g g).
+enum FluidModel { FLUID_MODEL_B, FLUID_MODEL_A };
+extern const char *const FluidModelTypes[];
+
+// -fluid_bc_<face>: the gas boundary condition of a face (periodic faces come from -domain_periodic_*).
+enum FluidBC { FLUID_BC_NOSLIP, FLUID_BC_FREESLIP, FLUID_BC_OUTLET, FLUID_BC_PRESSURE };
+extern const char *const FluidBCTypes[];
+extern const char *const FluidFaceKeys[FACE_COUNT]; // xlo, xhi, ...
+
+extern const char *const FluidLimiterTypes[];
+
+// A ghosted DMDA array addressed by global (i, j, k, component), in 2D with k = 0; a thin view on the local
+// vector's array.
+struct FieldView {
+  PetscScalar *a = nullptr;
+  PetscInt     s[3]{0, 0, 0}, m[3]{1, 1, 1}, dof = 1;
+
+  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c = 0) const
+  {
+    return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
+  }
+  PetscScalar &at(const PetscInt p[3], PetscInt c = 0) const { return (*this)(p[0], p[1], p[2], c); }
+};
+
+struct FluidField {
+  DM  dm  = nullptr; // borrowed
+  Vec loc = nullptr; // ghosted local vector
+};
+
+struct Fluid {
+  MPI_Comm         comm = MPI_COMM_NULL;
+  const Domain    *dom  = nullptr;
+  const FluidGrid *grid = nullptr;
+  PhaseLog        *log  = nullptr;
+  PetscInt         dim  = 3;
+  PetscInt         n[3]{1, 1, 1};
+  PetscReal        h[3]{1, 1, 1}, area[3]{1, 1, 1}, vol = 1; // cell sizes, face areas, cell volume
+  PetscBool        periodic[3]{PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  PetscInt         xs[3]{0, 0, 0}, xm[3]{1, 1, 1}; // owned cells
+
+  // physics (-fluid_*)
+  FluidModel       model = FLUID_MODEL_B;
+  PetscReal        rho = 1.205, mu = 1.8e-5; // air, seed Table 2.1
+  kernels::Limiter limiter = kernels::Limiter::VanLeer;
+  PetscBool        deps_dt = PETSC_FALSE;
+  PetscReal        body_force[3]{0, 0, 0};       // N/m^3, added to the momentum source
+  PetscReal        initial_velocity[3]{0, 0, 0}; // m/s, superficial
+  PetscReal        dt_fixed = 0, cfl = 0.9;
+  PetscInt         pc_reuse     = 1;
+  PetscBool        output_cells = PETSC_TRUE;
+  PetscReal        eps_uniform  = 1.0;
+  PetscReal        eps_sphere[5]{0, 0, 0, 0, 1};
+  PetscBool        has_sphere = PETSC_FALSE;
+  PetscReal        sphere_velocity[3]{0, 0, 0}; // m/s: the frozen sphere moves (eps changes every step)
+  PetscReal        time = 0;                    // s, gas time (moves the sphere)
+  PetscReal        eps_bed[2]{0, 1};
+  PetscBool        has_bed = PETSC_FALSE;
+
+  // boundary conditions (-fluid_bc_*, -inlet_*)
+  FluidBC                        bc[FACE_COUNT]{};
+  PetscReal                      wall_velocity[FACE_COUNT][3]{};
+  PetscReal                      inlet_velocity = 0; // superficial, through the distributor part of the bottom
+  std::vector<kernels::JetCells> jets;
+  std::vector<PetscReal>         inlet;                       // superficial inflow velocity of each bottom cell along x
+  PetscReal                      inflow_rate   = 0;           // m^3/s, from the inlet profile
+  PetscBool                      has_dirichlet = PETSC_FALSE; // a pressure outlet
+
+  // grids and fields
+  DM  da_s = nullptr; // scalar, box stencil 2, ghosted: eps, eps_old
+  DM  da_u = nullptr; // dof dim, box stencil 2, ghosted: face velocities
+  DM  da_c = nullptr; // dof dim, star stencil 1: cell velocity, momentum source
+  DM  da_p = nullptr; // scalar, star stencil 1: pressure matrix, phi, rhs
+  Vec u = nullptr, u_loc = nullptr;
+  Vec eps = nullptr, eps_old = nullptr, eps_loc = nullptr, eps_old_loc = nullptr;
+  Vec source = nullptr, source_loc = nullptr;
+  Vec cell_u = nullptr;
+  Vec phi = nullptr, phi_loc = nullptr, rhs = nullptr, p = nullptr;
+  // Velocity of the top boundary face of each top cell (outlets), kept at that cell's entry of a scalar field so
+  // that neighbours see it through the ghost exchange; other entries unused.
+  Vec u_top = nullptr, u_top_loc = nullptr;
+
+  // pressure solver
+  Mat          A          = nullptr;
+  MatNullSpace nullspace  = nullptr;
+  KSP          ksp        = nullptr;
+  PetscInt     assemblies = 0, since_pc = 0;
+
+  FluidStats stats;
+};
+
+// Calls fn(i, j, k) for every cell this rank owns (x fastest; k = 0 in 2D).
+template <class Fn>
+inline void ForEachOwnedCell(const Fluid *f, Fn &&fn)
+{
+  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) fn(i, j, k);
+}
+
+// fluid_bc.cpp
+PetscErrorCode FluidReadBoundaryOptions(Fluid *f);
+PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind); // kind: 0 scalar (eps), 1 velocity
+// Boundary face velocities for the current eps: walls 0, the inlet's superficial velocity / eps, the outlet's
+// (uniform: inflow minus the integral of d(eps)/dt; pressure: the predicted velocity extrapolated when extrapolate).
+PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapolate);
+PetscErrorCode FluidScatterVelocity(Fluid *f);
+PetscErrorCode FluidFlowRates(Fluid *f, PetscReal *in, PetscReal *out);
+PetscErrorCode FluidDepsSum(Fluid *f, PetscReal dt, PetscReal *sum); // integral of -d(eps)/dt over the domain with -fluid_deps_dt (m^3/s)
+
+// momentum.cpp
+PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt);
+PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates);
+
+// pressure.cpp
+PetscErrorCode FluidPressureCreate(Fluid *f);
+PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt);
+PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt);
+PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
+PetscErrorCode FluidPressureDestroy(Fluid *f);
+PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc); // the pressure KSP and PC types
+
+// Views on local arrays.
+PetscErrorCode   FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
+PetscErrorCode   FieldRestore(Vec v, FieldView *view);
+inline PetscReal FaceEps(const FieldView &eps, const PetscInt c[3], int a)
+{
+  return 0.5 * (eps(c[0] - (a == 0), c[1] - (a == 1), c[2] - (a == 2)) + eps.at(c));
+}
+
+} // namespace fluidbed

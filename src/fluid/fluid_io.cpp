@@ -1,0 +1,88 @@
+// The gas fields in HDF5: cell fields for snapshots, the full state for checkpoints. DMDA vectors are written in
+// natural ordering, so a checkpoint loads on any number of ranks.
+#include "fluid_impl.hpp"
+
+#include <petscviewerhdf5.h>
+
+namespace fluidbed {
+
+namespace {
+PetscErrorCode ViewNamed(Vec v, const char *name, PetscViewer viewer)
+{
+  const char *old;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetName((PetscObject)v, &old));
+  std::string keep = old ? old : "";
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecView(v, viewer));
+  PetscCall(PetscObjectSetName((PetscObject)v, keep.c_str()));
+  PetscFunctionReturn(0);
+}
+PetscErrorCode LoadNamed(Vec v, const char *name, PetscViewer viewer)
+{
+  const char *old;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetName((PetscObject)v, &old));
+  std::string keep = old ? old : "";
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecLoad(v, viewer));
+  PetscCall(PetscObjectSetName((PetscObject)v, keep.c_str()));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode FluidWriteHDF5(Fluid *f, PetscViewer viewer, PetscBool full)
+{
+  Vec cell;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
+  PetscCall(FluidGetCellVelocity(f, &cell));
+  PetscCall(ViewNamed(cell, "velocity", viewer));
+  PetscCall(ViewNamed(f->p, "pressure", viewer));
+  PetscCall(ViewNamed(f->eps, "void_fraction", viewer));
+  if (full) {
+    PetscCall(ViewNamed(f->u, "face_velocity", viewer));
+    PetscCall(ViewNamed(f->eps_old, "void_fraction_old", viewer));
+    PetscCall(ViewNamed(f->source, "momentum_source", viewer));
+    PetscCall(ViewNamed(f->u_top, "outlet_velocity", viewer));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "time", PETSC_REAL, &f->time));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "since_pc", PETSC_INT, &f->since_pc));
+    const PetscReal steps = (PetscReal)f->stats.steps;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "steps", PETSC_REAL, &steps));
+  }
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetGasProperties(const Fluid *f, PetscReal *rho, PetscReal *mu)
+{
+  PetscFunctionBeginUser;
+  *rho = f->rho;
+  *mu  = f->mu;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidReadHDF5(Fluid *f, PetscViewer viewer)
+{
+  PetscReal steps;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
+  PetscCall(LoadNamed(f->u, "face_velocity", viewer));
+  PetscCall(LoadNamed(f->p, "pressure", viewer));
+  PetscCall(LoadNamed(f->eps, "void_fraction", viewer));
+  PetscCall(LoadNamed(f->eps_old, "void_fraction_old", viewer));
+  PetscCall(LoadNamed(f->source, "momentum_source", viewer));
+  PetscCall(LoadNamed(f->u_top, "outlet_velocity", viewer));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/fluid", "time", PETSC_REAL, NULL, &f->time));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/fluid", "since_pc", PETSC_INT, NULL, &f->since_pc));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/fluid", "steps", PETSC_REAL, NULL, &steps));
+  f->stats.steps = (PetscInt64)steps;
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(DMGlobalToLocal(f->da_s, f->u_top, INSERT_VALUES, f->u_top_loc));
+  PetscCall(FluidScatterVelocity(f));
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

@@ -1,0 +1,391 @@
+// The projection: the pressure matrix, its KSP (prefix -fluid_p_), the correction and the divergence check.
+//
+// With phi = dt p / rho and the face coefficient c_f (1 for model B, eps_f for model A), the correction
+// eps_f u = eps_f u* - c_f grad phi and the continuity equation div(eps u) = -d(eps)/dt (0 by default) give
+// div(c grad phi) = div(eps u*) + d(eps)/dt. The matrix is the volume integral of -div(c grad .): symmetric,
+// positive semi-definite, singular (constants) unless the top is a pressure outlet (phi = 0 on that face).
+#include "fluid_impl.hpp"
+
+#include <petscdmda.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace fluidbed {
+
+namespace {
+
+PetscReal FaceCoefficient(const Fluid *f, const FieldView &E, const PetscInt c[3], int a)
+{
+  return f->model == FLUID_MODEL_B ? 1.0 : FaceEps(E, c, a);
+}
+
+// Volume flux eps_f u A out of cell c through its faces (m^3/s).
+PetscReal NetOutflow(const Fluid *f, const FieldView &U, const FieldView &E, const PetscInt c[3])
+{
+  PetscReal out = 0;
+  for (int a = 0; a < f->dim; ++a) {
+    const PetscInt up[3] = {c[0] + (a == 0), c[1] + (a == 1), c[2] + (a == 2)};
+    out += f->area[a] * (FaceEps(E, up, a) * U.at(up, a) - FaceEps(E, c, a) * U.at(c, a));
+  }
+  return out;
+}
+
+PetscErrorCode AssembleMatrix(Fluid *f)
+{
+  FieldView E;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatZeroEntries(f->A));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
+        const PetscInt c[3] = {i, j, k};
+        MatStencil     row  = {k, j, i, 0}, col[7];
+        PetscScalar    val[7], diag = 0;
+        PetscInt       n = 0;
+        for (int a = 0; a < f->dim; ++a)
+          for (int side = 0; side < 2; ++side) {
+            PetscInt nb[3] = {i, j, k};
+            nb[a] += side ? 1 : -1;
+            if (!f->periodic[a] && (nb[a] < 0 || nb[a] >= f->n[a])) {
+              if (f->bc[2 * a + side] == FLUID_BC_PRESSURE)
+                diag += (f->model == FLUID_MODEL_B ? 1.0 : E.at(c)) * f->area[a] / (0.5 * f->h[a]);
+              continue; // otherwise the normal velocity is given: no pressure flux
+            }
+            const PetscInt fc[3] = {side ? nb[0] : i, side ? nb[1] : j,
+                                    side ? nb[2] : k}; // the shared face, as the lower face of its upper cell
+            const PetscReal coef = FaceCoefficient(f, E, fc, a) * f->area[a] / f->h[a];
+            col[n]               = {nb[2], nb[1], nb[0], 0};
+            val[n++]             = -coef;
+            diag += coef;
+          }
+        col[n]   = row;
+        val[n++] = diag;
+        PetscCall(MatSetValuesStencil(f->A, 1, &row, n, col, val, ADD_VALUES));
+      }
+  PetscCall(FieldRestore(f->eps_loc, &E));
+  PetscCall(MatAssemblyBegin(f->A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->A, MAT_FINAL_ASSEMBLY));
+  f->assemblies++;
+  PetscFunctionReturn(0);
+}
+
+// Geometric multigrid on the cell-centred grid: each level coarsens direction a by a fixed whole factor, and
+// every rank's cells must coarsen exactly (the Q0 interpolation keeps each coarse cell's children on its rank).
+// Factors for L levels: per direction the smallest q in 2..8 with q^(L-1) dividing every rank's cells and
+// leaving at least two coarse cells, else 1. Returns false when no direction coarsens.
+bool CoarseningFactors(const Fluid *f, PetscInt L, PetscInt fac[3], double *coarse)
+{
+  *coarse = 1;
+  for (int a = 0; a < 3; ++a) fac[a] = 1;
+  for (int a = 0; a < f->dim; ++a) {
+    PetscInt pw = 1;
+    for (PetscInt q = 2; q <= 8 && fac[a] == 1; ++q) {
+      pw = 1;
+      for (PetscInt l = 1; l < L; ++l) pw *= q;
+      bool ok = f->n[a] % pw == 0 && f->n[a] / pw >= 2;
+      for (PetscInt own : f->grid->own[a]) ok = ok && own % pw == 0;
+      if (ok) fac[a] = q;
+    }
+    pw = 1;
+    for (PetscInt l = 1; l < L; ++l) pw *= fac[a];
+    *coarse *= (double)(f->n[a] / pw);
+  }
+  return fac[0] * fac[1] * fac[2] > 1;
+}
+
+// Without -fluid_p_pc_mg_levels: the number of levels (2..8) that gives the smallest coarse grid.
+PetscInt ChooseLevels(const Fluid *f)
+{
+  PetscInt levels = 1, fac[3];
+  double   best   = 0, coarse;
+  for (PetscInt L = 2; L <= 8; ++L) {
+    if (!CoarseningFactors(f, L, fac, &coarse)) break;
+    if (best == 0 || coarse < best) {
+      best   = coarse;
+      levels = L;
+    }
+  }
+  return levels;
+}
+
+// Piecewise-constant (Q0) interpolation from a grid coarser by fac per direction, for one rank's block of
+// m[3] fine cells: each fine cell takes the value of the coarse cell that contains it, which the same rank owns.
+// Rows and columns in PETSc's DMDA ordering (each rank's block contiguous, x fastest).
+PetscErrorCode Q0Interpolation(MPI_Comm comm, const PetscInt m[3], const PetscInt fac[3], Mat *P)
+{
+  const PetscInt mc[3] = {m[0] / fac[0], m[1] / fac[1], m[2] / fac[2]};
+  PetscInt       rstart, cstart;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateAIJ(comm, m[0] * m[1] * m[2], mc[0] * mc[1] * mc[2], PETSC_DETERMINE, PETSC_DETERMINE, 1, NULL, 0, NULL, P));
+  PetscCall(MatGetOwnershipRange(*P, &rstart, NULL));
+  PetscCall(MatGetOwnershipRangeColumn(*P, &cstart, NULL));
+  for (PetscInt k = 0; k < m[2]; ++k)
+    for (PetscInt j = 0; j < m[1]; ++j)
+      for (PetscInt i = 0; i < m[0]; ++i) {
+        const PetscInt row = rstart + (k * m[1] + j) * m[0] + i;
+        const PetscInt col = cstart + ((k / fac[2]) * mc[1] + j / fac[1]) * mc[0] + i / fac[0];
+        PetscCall(MatSetValue(*P, row, col, 1.0, INSERT_VALUES));
+      }
+  PetscCall(MatAssemblyBegin(*P, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*P, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+// PCMG with Galerkin coarse operators and Q0 interpolation built here: PETSc's DMDA coarsening halves each
+// direction (a grid of 175 cells does not halve) and its Q0 interpolation takes factors of 2 only.
+PetscErrorCode SetUpMultigrid(Fluid *f, PC pc, const char *prefix)
+{
+  PetscInt  levels, fac[3];
+  PetscBool set;
+  double    coarse;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, prefix, "-pc_mg_levels", &set));
+  PetscCall(PCMGGetLevels(pc, &levels));
+  if (!set) levels = ChooseLevels(f);
+  if (levels > 1)
+    PetscCheck(CoarseningFactors(f, levels, fac, &coarse), f->comm, PETSC_ERR_USER_INPUT,
+               "-%spc_mg_levels %d: the fluid grid (per rank) cannot be coarsened %d times by whole factors; leave the option out to "
+               "choose automatically",
+               prefix, (int)levels, (int)levels - 1);
+  PetscCall(PCMGSetLevels(pc, levels, NULL));
+  if (levels == 1) PetscFunctionReturn(0);
+  PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
+  PetscInt m[3] = {f->xm[0], f->xm[1], f->xm[2]};
+  for (PetscInt l = levels - 1; l >= 1; --l) {
+    Mat P;
+    PetscCall(Q0Interpolation(f->comm, m, fac, &P));
+    PetscCall(PCMGSetInterpolation(pc, l, P));
+    PetscCall(MatDestroy(&P));
+    for (int a = 0; a < 3; ++a) m[a] /= fac[a];
+  }
+  PetscCall(PetscInfo(pc, "PCMG: %d levels, coarsening factors %d x %d x %d\n", (int)levels, (int)fac[0], (int)fac[1], (int)fac[2]));
+  PetscFunctionReturn(0);
+}
+
+// Makes the PCs named in the issue work on this operator without extra options: ICC/ILU in parallel run as
+// block Jacobi with that sub-PC, and PCMG gets its hierarchy from SetUpMultigrid.
+PetscErrorCode AdaptPreconditioner(Fluid *f)
+{
+  PC          pc;
+  PetscBool   is_icc, is_ilu, is_mg;
+  PetscMPIInt size;
+  const char *prefix;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(f->comm, &size));
+  PetscCall(KSPGetPC(f->ksp, &pc));
+  PetscCall(KSPGetOptionsPrefix(f->ksp, &prefix));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCICC, &is_icc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCILU, &is_ilu));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &is_mg));
+  if ((is_icc || is_ilu) && size > 1) {
+    KSP     *sub;
+    PetscInt nsub;
+    PC       subpc;
+    PetscCall(PCSetType(pc, PCBJACOBI));
+    PetscCall(KSPSetUp(f->ksp));
+    PetscCall(PCBJacobiGetSubKSP(pc, &nsub, NULL, &sub));
+    PetscCall(KSPGetPC(sub[0], &subpc));
+    PetscCall(PCSetType(subpc, is_icc ? PCICC : PCILU));
+    PetscCall(PetscInfo(pc, "%s in parallel: block Jacobi with %s on each rank\n", is_icc ? "ICC" : "ILU", is_icc ? "ICC" : "ILU"));
+  }
+  if (is_mg) {
+    PetscCall(SetUpMultigrid(f, pc, prefix));
+    PetscCall(KSPSetFromOptions(f->ksp)); // the level smoothers read their options
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FluidPressureCreate(Fluid *f)
+{
+  PC pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDASetInterpolationType(f->da_p, DMDA_Q0));
+  PetscCall(DMCreateMatrix(f->da_p, &f->A));
+  PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));
+  PetscCall(MatSetOption(f->A, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscCall(MatSetOption(f->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+  PetscCall(AssembleMatrix(f));
+  if (!f->has_dirichlet) {
+    PetscCall(MatNullSpaceCreate(f->comm, PETSC_TRUE, 0, NULL, &f->nullspace));
+    PetscCall(MatSetNullSpace(f->A, f->nullspace));
+    PetscCall(MatSetTransposeNullSpace(f->A, f->nullspace));
+  }
+  PetscCall(KSPCreate(f->comm, &f->ksp));
+  PetscCall(KSPSetOptionsPrefix(f->ksp, "fluid_p_"));
+  PetscCall(KSPSetType(f->ksp, KSPCG));
+  PetscCall(KSPGetPC(f->ksp, &pc));
+  PetscCall(PCSetType(pc, PCHYPRE));
+  PetscCall(PCHYPRESetType(pc, "boomeramg"));
+  PetscCall(KSPSetTolerances(f->ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, 10000));
+  PetscCall(KSPSetOperators(f->ksp, f->A, f->A));
+  PetscCall(KSPSetFromOptions(f->ksp));
+  PetscCall(AdaptPreconditioner(f));
+  {
+    // The residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself: CG
+    // tracks it with the preconditioner on the left; the GMRES and BiCGStab families need it on the right. Other
+    // Krylov methods keep their defaults, as do runs that set -fluid_p_ksp_norm_type or -fluid_p_ksp_pc_side.
+    PetscBool is_cg, is_right, norm_set, side_set;
+    PetscCall(PetscObjectTypeCompare((PetscObject)f->ksp, KSPCG, &is_cg));
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)f->ksp, &is_right, KSPGMRES, KSPFGMRES, KSPLGMRES, KSPBCGS, KSPBCGSL, ""));
+    PetscCall(PetscOptionsHasName(NULL, "fluid_p_", "-ksp_norm_type", &norm_set));
+    PetscCall(PetscOptionsHasName(NULL, "fluid_p_", "-ksp_pc_side", &side_set));
+    if (!norm_set && !side_set && (is_cg || is_right)) {
+      if (is_right) PetscCall(KSPSetPCSide(f->ksp, PC_RIGHT));
+      PetscCall(KSPSetNormType(f->ksp, KSP_NORM_UNPRECONDITIONED));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc)
+{
+  PC p;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetType(f->ksp, ksp));
+  PetscCall(KSPGetPC(f->ksp, &p));
+  PetscCall(PCGetType(p, pc));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidPressureDestroy(Fluid *f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(KSPDestroy(&f->ksp));
+  PetscCall(MatNullSpaceDestroy(&f->nullspace));
+  PetscCall(MatDestroy(&f->A));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
+{
+  FieldView          U, E, E0, b;
+  KSPConvergedReason reason;
+  PetscBool          rebuild = PETSC_FALSE, same = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  // model A: the operator follows eps (assembled last with eps_old); the preconditioner is rebuilt every
+  // -fluid_pc_reuse solves at most
+  if (f->model == FLUID_MODEL_A) PetscCall(VecEqual(f->eps, f->eps_old, &same));
+  if (!same) {
+    PetscCall(AssembleMatrix(f));
+    rebuild = (PetscBool)(f->since_pc + 1 >= f->pc_reuse);
+    PetscCall(KSPSetReusePreconditioner(f->ksp, rebuild ? PETSC_FALSE : PETSC_TRUE));
+  }
+
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
+  PetscCall(FieldGet(f->da_p, f->rhs, PETSC_FALSE, &b));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt  c[3] = {i, j, k};
+    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
+    b(i, j, k)           = -(NetOutflow(f, U, E, c) + f->vol * deps);
+  });
+  PetscCall(FieldRestore(f->rhs, &b));
+  PetscCall(FieldRestore(f->eps_old_loc, &E0));
+  PetscCall(FieldRestore(f->eps_loc, &E));
+  PetscCall(FieldRestore(f->u_loc, &U));
+  if (f->nullspace) PetscCall(MatNullSpaceRemove(f->nullspace, f->rhs));
+  PetscCall(VecNorm(f->rhs, NORM_2, &f->stats.rhs_scale));
+  f->stats.rhs_scale /= f->vol;
+
+  const double t0 = MPI_Wtime();
+  PetscCall(KSPSetUp(f->ksp));
+  PetscCall(KSPSolve(f->ksp, f->rhs, f->phi));
+  const double t1 = MPI_Wtime();
+  PetscCall(KSPGetConvergedReason(f->ksp, &reason));
+  if (reason < 0) {
+    const char *kt, *pt;
+    PetscCall(FluidSolverNames(f, &kt, &pt));
+    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED,
+            "pressure solve (-fluid_p_ksp_type %s -fluid_p_pc_type %s) did not converge at gas step %lld: %s", kt, pt,
+            (long long)f->stats.steps + 1, KSPConvergedReasons[reason]);
+  }
+  if (f->nullspace) PetscCall(MatNullSpaceRemove(f->nullspace, f->phi));
+  PetscCall(KSPGetIterationNumber(f->ksp, &f->stats.ksp_its));
+  PetscCall(KSPGetResidualNorm(f->ksp, &f->stats.ksp_rnorm));
+  f->stats.ksp_time = t1 - t0;
+  f->stats.ksp_time_total += t1 - t0;
+  f->stats.ksp_its_total += f->stats.ksp_its;
+  f->stats.solves++;
+  if (f->stats.solves == 1 || rebuild) {
+    f->stats.pc_setups++;
+    f->since_pc = 0;
+  } else {
+    f->since_pc++;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
+{
+  FieldView U, E, Ph, Un;
+
+  PetscFunctionBeginUser;
+  (void)dt;
+  PetscCall(DMGlobalToLocal(f->da_p, f->phi, INSERT_VALUES, f->phi_loc));
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(FieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
+  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt c[3] = {i, j, k};
+    for (int a = 0; a < f->dim; ++a) {
+      if (!f->periodic[a] && c[a] == 0) continue;
+      const PetscInt  l[3] = {i - (a == 0), j - (a == 1), k - (a == 2)};
+      const PetscReal e    = FaceEps(E, c, a);
+      Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
+    }
+  });
+  if (f->has_dirichlet && f->xs[1] + f->xm[1] == f->n[1]) {
+    FieldView      top;
+    const PetscInt j = f->n[1] - 1;
+    PetscCall(FieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
+    for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
+        const PetscInt  c[3] = {i, j, k};
+        const PetscReal coef = f->model == FLUID_MODEL_B ? 1.0 / E.at(c) : 1.0;
+        top(i, j, k)         = U(i, j + 1, k, 1) - coef * (0.0 - Ph.at(c)) / (0.5 * f->h[1]);
+      }
+    PetscCall(FieldRestore(f->u_top, &top));
+  }
+  PetscCall(FieldRestore(f->u, &Un));
+  PetscCall(FieldRestore(f->phi_loc, &Ph));
+  PetscCall(FieldRestore(f->eps_loc, &E));
+  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div)
+{
+  FieldView U, E, E0;
+  PetscReal loc = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
+  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
+    const PetscInt  c[3] = {i, j, k};
+    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
+    loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U, E, c) / f->vol + deps));
+  });
+  PetscCall(FieldRestore(f->eps_old_loc, &E0));
+  PetscCall(FieldRestore(f->eps_loc, &E));
+  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCallMPI(MPI_Allreduce(&loc, max_div, 1, MPIU_REAL, MPI_MAX, f->comm));
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed
