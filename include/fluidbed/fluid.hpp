@@ -64,8 +64,9 @@ const FluidStats &FluidGetStats(const Fluid *fluid);
 // ordering, so a checkpoint loads on any number of ranks.
 PetscErrorCode FluidWriteHDF5(Fluid *fluid, PetscViewer viewer, PetscBool full);
 PetscErrorCode FluidReadHDF5(Fluid *fluid, PetscViewer viewer);
-// Gas density (kg/m^3) and viscosity (Pa s), for the drag.
+// Gas density (kg/m^3) and viscosity (Pa s), for the drag; whether the momentum equation is the seed's Model B.
 PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscReal *mu);
+PetscBool      FluidIsModelB(const Fluid *fluid);
 
 // fluid_cells.csv in natural ordering, written by rank 0: i,j,k,x,y,z,eps,p,u,v,w (cell averages),
 // ufx,ufy,ufz (velocities on the cell's lower x, y, z faces).

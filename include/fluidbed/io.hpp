@@ -29,14 +29,16 @@ struct Monitor {
   std::vector<PetscInt64> track_ids;
   PetscInt                track_every = 1;
   PetscReal               interval = 0, next = 0;
-  bool                    particles = true, fluid = false; // column groups, set before MonitorCreate
+  bool                     particles = true, fluid = false; // column groups, set before MonitorCreate
+  std::vector<std::string> extra_columns;                   // further columns (coupling, probes), set before MonitorCreate
 };
 
 // append: continue the files of a restarted run instead of starting them anew.
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, Monitor *m);
 // One row: the particle columns when m->particles, the gas columns (fluid, the last gas step) when m->fluid.
+// extra: the values of m->extra_columns.
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
-                            const FluidStats *fluid = nullptr);
+                            const FluidStats *fluid = nullptr, const std::vector<PetscReal> *extra = nullptr);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
 PetscErrorCode MonitorDestroy(Monitor *m);
 

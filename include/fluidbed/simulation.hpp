@@ -3,6 +3,7 @@
 
 #include <petscsys.h>
 
+#include "fluidbed/coupling.hpp"
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/fluid.hpp"
@@ -11,6 +12,7 @@
 #include "fluidbed/io.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
+#include "fluidbed/probes.hpp"
 
 namespace fluidbed {
 
@@ -47,6 +49,8 @@ struct Simulation {
   Dem            *dem   = nullptr;
   DM              swarm = nullptr;
   Fluid          *fluid = nullptr;
+  Coupling       *coupling = nullptr; // particles and gas both on
+  GasProbes       probes;
   PetscInt64      step  = 0;
   PetscReal       time  = 0.0;
   PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)

@@ -91,7 +91,7 @@ PetscErrorCode OptionsRealArray(PetscOptionItems *PetscOptionsObject, const char
   if (!flg) *n = nmax;
   PetscCheck(!flg || !exact || *n == nmax, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
              "%s needs %" PetscInt_FMT " comma-separated values, got %" PetscInt_FMT, OptionName(PetscOptionsObject, name), nmax, *n);
-  for (PetscInt i = 0; i < *n; ++i)
+  for (PetscInt i = 0; flg && i < *n; ++i) // defaults are the caller's
     PetscCheck(InRange(range, values[i]), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
                "%s entry %" PetscInt_FMT " = %.6g is out of range: allowed %s%s%s", OptionName(PetscOptionsObject, name), i,
                (double)values[i], rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");

@@ -110,9 +110,21 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(FluidCreate(sim->comm, sim->domain, sim->grids.fluid, &sim->log, &sim->fluid));
     PetscCall(FluidSetUp(sim->fluid));
   }
+  if (sim->dem && sim->fluid)
+    PetscCall(CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   sim->monitor.particles = sim->run.particles;
   sim->monitor.fluid     = sim->run.fluid;
+  if (sim->coupling) {
+    const char *axes[3] = {"x", "y", "z"};
+    for (const char *what : {"drag_particles_", "drag_gas_"})
+      for (PetscInt a = 0; a < sim->domain.dim; ++a) sim->monitor.extra_columns.push_back(std::string(what) + axes[a]);
+    for (const char *name : {"eps_min", "eps_max", "eps_clamped_cells"}) sim->monitor.extra_columns.push_back(name);
+  }
+  if (sim->fluid) {
+    PetscCall(GasProbesSetFromOptions(sim->comm, sim->domain, &sim->probes));
+    GasProbesColumns(sim->probes, &sim->monitor.extra_columns);
+  }
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
   if (restart) PetscCall(SimulationReadCheckpoint(sim));
   else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
@@ -125,15 +137,19 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
       (double)sim->inserted.solid_fraction_region));
     PetscCall(DemParamsView(sim->dem->par, viewer));
-    PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
   }
+  if (sim->coupling) {
+    PetscCall(CouplingView(sim->coupling, viewer));
+    PetscCall(CouplingSetUp(sim->coupling)); // the gas velocity the first drag sees
+  }
+  if (sim->dem) PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
   if (restart)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Restart from %s at t = %.6g s, step %lld\n", sim->output.restart, (double)sim->time,
                                      (long long)sim->step));
   if (sim->fluid) {
     PetscCall(FluidView(sim->fluid, viewer));
     if (sim->dem) {
-      // both on (not coupled yet): the gas step is a whole number of DEM steps and must respect the gas limits
+      // coupled: the gas step is a whole number of DEM steps and must respect the gas limits
       const PetscReal dt_gas = sim->dem->par.dt * sim->run.couple_substeps;
       PetscReal       dt_max;
       PetscCheck(FluidFixedTimeStep(sim->fluid) == 0, sim->comm, PETSC_ERR_USER_INPUT,
@@ -143,8 +159,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
                  "-couple_substeps %d: the gas step %.6g s (DEM step %.6g s x %d) exceeds the gas limit %.6g s; use at most %d substeps",
                  (int)sim->run.couple_substeps, (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max,
                  (int)PetscMax(1, (PetscInt)(dt_max / sim->dem->par.dt)));
-      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s (gas and particles not coupled yet)\n",
-                                       (int)sim->run.couple_substeps, (double)dt_gas));
+      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)sim->run.couple_substeps, (double)dt_gas));
     }
   }
   sim->wall_setup = MPI_Wtime() - t0;
@@ -166,10 +181,25 @@ PetscErrorCode GasOnlyStep(Simulation *sim, PetscReal *dt)
 
 PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
 {
+  std::vector<PetscReal> extra;
+
   PetscFunctionBeginUser;
   if (sim->dem) PetscCall(ComputeParticleTotals(sim->dem, tot));
+  if (sim->coupling) {
+    const CouplingStats &cs = CouplingGetStats(sim->coupling);
+    for (PetscInt a = 0; a < sim->domain.dim; ++a) extra.push_back(cs.drag_particles[a]);
+    for (PetscInt a = 0; a < sim->domain.dim; ++a) extra.push_back(cs.drag_gas[a]);
+    extra.push_back(cs.eps_min);
+    extra.push_back(cs.eps_max);
+    extra.push_back((PetscReal)cs.clamped);
+  }
+  if (sim->fluid) {
+    PetscCall(GasProbesMeasure(&sim->probes, sim->fluid, sim->domain, sim->grids.fluid));
+    extra.insert(extra.end(), sim->probes.values.begin(), sim->probes.values.end());
+  }
   PetscCall(
-    MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr));
+    MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr,
+                         &extra));
   PetscFunctionReturn(0);
 }
 
@@ -214,10 +244,13 @@ PetscErrorCode SimulationRun(Simulation *sim)
 
   while (!finished()) {
     PetscReal dt = dt_dem;
-    if (sim->fluid && (!dem || (sim->step - step0) % sub == 0)) {
+    if (sim->fluid && (!dem || sim->step % sub == 0)) {
       PetscReal dt_gas = sub * dt_dem;
       if (!dem) PetscCall(GasOnlyStep(sim, &dt_gas));
+      // seed chapter 5: the gas advances first, with the void fraction and exchange terms of the particles' last step
+      if (sim->coupling) PetscCall(CouplingBeforeFluidStep(sim->coupling));
       PetscCall(FluidStep(sim->fluid, dt_gas));
+      if (sim->coupling) PetscCall(CouplingAfterFluidStep(sim->coupling));
       if (!dem) dt = dt_gas;
     }
     if (dem) {
@@ -289,6 +322,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscFunctionBeginUser;
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
+  PetscCall(CouplingDestroy(&(*sim)->coupling));
   PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));
   PetscCall(DemDestroy(&(*sim)->dem));

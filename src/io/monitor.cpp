@@ -98,6 +98,7 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
       fprintf(m->csv, ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
                       "outlet_removed,rebuilds");
     if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
+    for (const std::string &name : m->extra_columns) fprintf(m->csv, ",%s", name.c_str());
     fprintf(m->csv, "\n");
     }
     if (!m->track_ids.empty()) {
@@ -112,7 +113,7 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
 }
 
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
-                            const FluidStats *fluid)
+                            const FluidStats *fluid, const std::vector<PetscReal> *extra)
 {
   PetscFunctionBeginUser;
   (void)comm;
@@ -127,6 +128,8 @@ PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
       fprintf(m->csv, ",%.6e,%.6e,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed, (int)fluid->ksp_its,
               (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div, (double)fluid->rhs_scale, (double)fluid->inflow,
               (double)fluid->outflow);
+    if (extra)
+      for (PetscReal v : *extra) fprintf(m->csv, ",%.12e", (double)v);
     fprintf(m->csv, "\n");
     fflush(m->csv);
   }

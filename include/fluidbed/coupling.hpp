@@ -1,0 +1,58 @@
+// Gas-particle coupling (seed chapter 2 eq. 2.1, 2.18-2.21, and chapter 5's two-grid mapping eq. 5.1-5.5).
+//
+// Two grids (-couple_grid two, the default): the solid volume and the drag reaction are summed on the coarse
+// particle grid, the void fraction eps = 1 - solid volume / cell volume of each particle cell is copied to all
+// of its fluid cells (eq. 5.2-5.5), the gas velocity each particle sees is the average of the cell velocities of
+// its particle cell's fluid cells (seed step 2), and the particle cell's summed drag reaction is spread over its
+// fluid cells by volume (eq. 5.1). With -pgrid_ratio 1 this is the conventional single grid; -couple_grid single
+// runs the conventional method directly on the fluid grid (an independent path, tested against ratio 1).
+//
+// Model B (eq. 2.1, 2.20): particles feel their weight reduced by buoyancy, (rho_p - rho_g) V_p g, plus drag;
+// the gas gets minus the summed drag and rho_g g. The drag law is chosen by name (-drag_model).
+//
+// Per DEM step (the DEM's external-force hook): deposit the solid volume at the particles' new positions, form
+// eps, compute each particle's drag with its predicted velocity and add it to its force, and add minus the drag
+// to the particle cell's reaction. Before a gas step (every -couple_substeps DEM steps): copy eps to the fluid
+// grid and the reaction averaged over the substeps. After it: average the gas velocity over particle cells.
+// Halos of these fields go through DMDA local vectors (a particle may sit up to half a Verlet skin outside its
+// rank's cells between neighbour-list rebuilds).
+#pragma once
+
+#include <petscdmda.h>
+
+#include "fluidbed/dem.hpp"
+#include "fluidbed/fluid.hpp"
+#include "fluidbed/grids.hpp"
+#include "fluidbed/kernels/drag_common.hpp"
+
+namespace fluidbed {
+
+struct Coupling;
+
+// Totals for monitor.csv: drag on the particles and its reaction on the gas (they cancel to round-off), and the
+// void fraction range.
+struct CouplingStats {
+  PetscReal drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles, averaged over the DEM steps that fed the last gas step, N
+  PetscReal drag_gas[3]{0, 0, 0};       // the reaction the gas received in its last step, N
+  PetscReal eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
+  PetscInt64 clamped = 0;               // cells whose eps hit -couple_eps_min in the last DEM step
+};
+
+// Reads -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and sets the
+// buoyancy factor.
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps, PhaseLog *log,
+                              Coupling **coupling);
+// The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
+PetscErrorCode CouplingSetUp(Coupling *coupling);
+PetscErrorCode CouplingBeforeFluidStep(Coupling *coupling);
+PetscErrorCode CouplingAfterFluidStep(Coupling *coupling);
+const CouplingStats &CouplingGetStats(const Coupling *coupling);
+PetscErrorCode       CouplingView(const Coupling *coupling, PetscViewer viewer);
+PetscErrorCode       CouplingDestroy(Coupling **coupling);
+
+// Drag laws by name (-drag_model): K = beta / (1 - eps), N s / m^4 (kernels/drag_*.hpp).
+typedef double (*DragLaw)(const kernels::DragInput &);
+PetscErrorCode DragLawGet(const char *name, DragLaw *law);
+extern const char *const DragLawNames; // "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice"
+
+} // namespace fluidbed

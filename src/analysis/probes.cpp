@@ -1,0 +1,96 @@
+#include "fluidbed/probes.hpp"
+#include "fluidbed/options.hpp"
+#include "fluidbed/kernels/bed_statistics.hpp"
+
+#include <cmath>
+
+namespace fluidbed {
+
+PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProbes *pr)
+{
+  PetscReal h[64], pts[3 * 64];
+  PetscInt  nh = 64, np = 3 * 64;
+  PetscBool set_h, set_p;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, "probe_", "Gas pressure probes (monitor.csv columns)", "Analysis");
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-heights", "Heights above the distributor of cross-section-averaged pressure", "m", Closed(0.0, 100.0), h, &nh,
+                             PETSC_FALSE, &set_h));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-points", "Pressure probes x,y,z,x,y,z,... (z ignored in 2D)", "m", Closed(-100.0, 100.0), pts, &np, PETSC_FALSE,
+                             &set_p));
+  PetscOptionsEnd();
+  if (set_h) {
+    for (PetscInt k = 0; k < nh; ++k) {
+      PetscCheck(h[k] >= dom.lo[1] && h[k] <= dom.hi[1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-probe_heights: %.6g m is outside the bed [%.6g, %.6g] m",
+                 (double)h[k], (double)dom.lo[1], (double)dom.hi[1]);
+      pr->heights.push_back(h[k]);
+    }
+  }
+  if (set_p) {
+    PetscCheck(np % 3 == 0, comm, PETSC_ERR_USER_INPUT, "-probe_points takes x,y,z triples, got %d values", (int)np);
+    for (PetscInt k = 0; k < np / 3; ++k) {
+      for (int a = 0; a < dom.dim; ++a)
+        PetscCheck(pts[3 * k + a] >= dom.lo[a] && pts[3 * k + a] <= dom.hi[a], comm, PETSC_ERR_ARG_OUTOFRANGE, "-probe_points: probe %d lies outside the domain",
+                   (int)k);
+      pr->points.push_back({pts[3 * k], pts[3 * k + 1], pts[3 * k + 2]});
+    }
+  }
+  pr->values.assign(pr->heights.size() + pr->points.size(), 0.0);
+  PetscFunctionReturn(0);
+}
+
+void GasProbesColumns(const GasProbes &pr, std::vector<std::string> *names)
+{
+  char buf[64];
+  for (PetscReal y : pr.heights) {
+    snprintf(buf, sizeof(buf), "p_y%.4gmm_avg", 1e3 * (double)y);
+    names->push_back(buf);
+  }
+  for (std::size_t k = 0; k < pr.points.size(); ++k) names->push_back("p_probe" + std::to_string(k));
+}
+
+PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, const FluidGrid &grid)
+{
+  DM                 da;
+  Vec                p;
+  const PetscScalar *a;
+  PetscInt           xs[3], xm[3];
+  const int          dim = (int)dom.dim;
+  MPI_Comm           comm;
+
+  PetscFunctionBeginUser;
+  if (pr->values.empty()) PetscFunctionReturn(0);
+  PetscCall(FluidGetCellDMs(fluid, &da, NULL));
+  PetscCall(FluidGetPressure(fluid, &p));
+  PetscCall(PetscObjectGetComm((PetscObject)da, &comm));
+  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
+  if (dim == 2) xs[2] = 0, xm[2] = 1;
+  PetscCall(VecGetArrayRead(p, &a));
+  auto at = [&](PetscInt i, PetscInt j, PetscInt k) { return a[((k - xs[2]) * xm[1] + (j - xs[1])) * xm[0] + (i - xs[0])]; };
+
+  // cross-section-averaged profile, interpolated between layer centres
+  std::vector<PetscReal> loc((std::size_t)grid.n[1], 0.0), prof((std::size_t)grid.n[1]);
+  for (PetscInt k = xs[2]; k < xs[2] + xm[2]; ++k)
+    for (PetscInt j = xs[1]; j < xs[1] + xm[1]; ++j)
+      for (PetscInt i = xs[0]; i < xs[0] + xm[0]; ++i) loc[(std::size_t)j] += at(i, j, k);
+  PetscCallMPI(MPI_Allreduce(loc.data(), prof.data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, comm));
+  const PetscReal per_layer = (PetscReal)(grid.n[0] * (dim == 3 ? grid.n[2] : 1));
+  for (auto &v : prof) v /= per_layer;
+  const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0], (int)grid.n[1],
+                                                 (int)grid.n[2]);
+  for (std::size_t k = 0; k < pr->heights.size(); ++k) pr->values[k] = kernels::interpolate_profile(g, prof, pr->heights[k] - dom.lo[1]);
+
+  // point probes: the value of the cell holding the point, from its owner
+  std::vector<PetscReal> pl(pr->points.size(), 0.0), pg(pr->points.size());
+  for (std::size_t q = 0; q < pr->points.size(); ++q) {
+    PetscInt c[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) c[d] = PetscMin(PetscMax((PetscInt)std::floor((pr->points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
+    if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2]) pl[q] = at(c[0], c[1], c[2]);
+  }
+  PetscCall(VecRestoreArrayRead(p, &a));
+  if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, comm));
+  for (std::size_t q = 0; q < pg.size(); ++q) pr->values[pr->heights.size() + q] = pg[q];
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed
