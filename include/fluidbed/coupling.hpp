@@ -10,10 +10,13 @@
 // Model B (eq. 2.1, 2.20): particles feel their weight reduced by buoyancy, (rho_p - rho_g) V_p g, plus drag;
 // the gas gets minus the summed drag and rho_g g. The drag law is chosen by name (-drag_model).
 //
-// Per DEM step (the DEM's external-force hook): deposit the solid volume at the particles' new positions, form
-// eps, compute each particle's drag with its predicted velocity and add it to its force, and add minus the drag
-// to the particle cell's reaction. Before a gas step (every -couple_substeps DEM steps): copy eps to the fluid
-// grid and the reaction averaged over the substeps. After it: average the gas velocity over particle cells.
+// The drag is linearised once per gas step (every -couple_substeps DEM steps): at the last DEM step before it
+// each particle gets a = V_p K (K from eq. 2.11-2.17 at its cell's eps and its current slip) and b = a v_p, and
+// each coupling cell sums B = sum a, M = sum b and its solid volume. The gas then advances with the drag
+// M - B u implicit in u (FluidGetDragCoefficient), which stays stable when the gas-particle relaxation time
+// eps rho_g / beta is far shorter than the gas step, as in a packed bed. After the gas step the cell velocity u is
+// averaged over each coupling cell and every particle feels F = a u - b until the next gas step: summed over a
+// cell the particles get B u - M, exactly minus what the gas got.
 // Halos of these fields go through DMDA local vectors (a particle may sit up to half a Verlet skin outside its
 // rank's cells between neighbour-list rebuilds).
 #pragma once
@@ -32,27 +35,31 @@ struct Coupling;
 // Totals for monitor.csv: drag on the particles and its reaction on the gas (they cancel to round-off), and the
 // void fraction range.
 struct CouplingStats {
-  PetscReal drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles, averaged over the DEM steps that fed the last gas step, N
-  PetscReal drag_gas[3]{0, 0, 0};       // the reaction the gas received in its last step, N
-  PetscReal eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
-  PetscInt64 clamped = 0;               // cells whose eps hit -couple_eps_min in the last DEM step
+  PetscReal  drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
+  PetscReal  drag_gas[3]{0, 0, 0};       // the drag the gas received in its last step, M - B u summed over cells, N
+  PetscReal  eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
+  PetscInt64 clamped = 0;                // cells whose eps hit -couple_eps_min in the last DEM step
 };
 
 // Reads -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and sets the
 // buoyancy factor.
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps, PhaseLog *log,
-                              Coupling **coupling);
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps,
+                              PhaseLog *log, Coupling **coupling);
 // The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
-PetscErrorCode CouplingSetUp(Coupling *coupling);
-PetscErrorCode CouplingBeforeFluidStep(Coupling *coupling);
-PetscErrorCode CouplingAfterFluidStep(Coupling *coupling);
+PetscErrorCode       CouplingSetUp(Coupling *coupling);
+PetscErrorCode       CouplingBeforeFluidStep(Coupling *coupling);
+PetscErrorCode       CouplingAfterFluidStep(Coupling *coupling);
 const CouplingStats &CouplingGetStats(const Coupling *coupling);
 PetscErrorCode       CouplingView(const Coupling *coupling, PetscViewer viewer);
-PetscErrorCode       CouplingDestroy(Coupling **coupling);
+// The coupling state a checkpoint needs to continue bit for bit (/coupling: per-cell sums, void fraction, the
+// DEM steps left before the next gas step); natural ordering, any number of ranks.
+PetscErrorCode CouplingWriteHDF5(Coupling *coupling, PetscViewer viewer);
+PetscErrorCode CouplingReadHDF5(Coupling *coupling, PetscViewer viewer);
+PetscErrorCode CouplingDestroy(Coupling **coupling);
 
 // Drag laws by name (-drag_model): K = beta / (1 - eps), N s / m^4 (kernels/drag_*.hpp).
 typedef double (*DragLaw)(const kernels::DragInput &);
-PetscErrorCode DragLawGet(const char *name, DragLaw *law);
+PetscErrorCode           DragLawGet(const char *name, DragLaw *law);
 extern const char *const DragLawNames; // "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice"
 
 } // namespace fluidbed

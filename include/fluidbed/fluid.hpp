@@ -53,6 +53,10 @@ PetscErrorCode FluidDestroy(Fluid **fluid);
 // Borrowed vectors (do not destroy). The void fraction and the momentum source are read at the next FluidStep.
 PetscErrorCode FluidGetVoidFraction(Fluid *fluid, Vec *eps);
 PetscErrorCode FluidGetMomentumSource(Fluid *fluid, Vec *source);
+// Implicit interphase drag (dof 1, N s/m^4, cell-centred): with it the gas feels source - beta u, u taken at the
+// end of the step (partial elimination into the projection), which keeps dense beds stable for gas steps far
+// longer than the gas-particle relaxation time eps rho_g / beta. Zero unless the coupling sets it.
+PetscErrorCode FluidGetDragCoefficient(Fluid *fluid, Vec *beta);
 PetscErrorCode FluidGetCellVelocity(Fluid *fluid, Vec *velocity); // computed from the faces at each call
 PetscErrorCode FluidGetPressure(Fluid *fluid, Vec *p);
 // The DMDAs of the cell fields above: dof 1 (eps, pressure) and dof dim (velocity, source).

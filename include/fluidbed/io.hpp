@@ -25,10 +25,10 @@ struct ParticleTotals {
 PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t);
 
 struct Monitor {
-  FILE                   *csv = nullptr, *track = nullptr;
-  std::vector<PetscInt64> track_ids;
-  PetscInt                track_every = 1;
-  PetscReal               interval = 0, next = 0;
+  FILE                    *csv = nullptr, *track = nullptr;
+  std::vector<PetscInt64>  track_ids;
+  PetscInt                 track_every = 1;
+  PetscReal                interval = 0, next = 0;
   bool                     particles = true, fluid = false; // column groups, set before MonitorCreate
   std::vector<std::string> extra_columns;                   // further columns (coupling, probes), set before MonitorCreate
 };

@@ -34,6 +34,12 @@ constexpr const char *diameter     = "diameter";     // m
 constexpr const char *id           = "id";           // unique global id, PetscInt64
 constexpr const char *contact_key  = "contact_key";  // K partner keys, PetscInt64
 constexpr const char *contact_hist = "contact_hist"; // K histories of kHistoryStride reals: xi_t (m), overlap (m), dashpot (N)
+constexpr const char *drag_coef    = "drag_coef";    // V_p K of the last gas step's linearised drag, N s/m (coupling)
+constexpr const char *drag_ref     = "drag_ref";     // V_p K v_p at that step, N, 3 components (coupling)
+constexpr const char *drag_cell    = "drag_cell";    // the coupling cell the particle was in at that step (coupling), PetscInt64
+
+// Every field fluidbed registers, for code that must treat them all (storage reordering).
+constexpr const char *all[] = {velocity, omega, force, torque, diameter, id, contact_key, contact_hist, drag_coef, drag_ref, drag_cell};
 } // namespace field
 
 constexpr PetscInt64 kFreeSlot      = -1;
@@ -53,7 +59,9 @@ struct ParticleArrays {
   PetscReal  *x = nullptr; // dim components per particle (DMSwarmPIC_coor)
   PetscReal  *v = nullptr, *w = nullptr, *f = nullptr, *t = nullptr, *d = nullptr;
   PetscInt64 *id = nullptr, *ckey = nullptr;
-  PetscReal  *chist = nullptr; // kHistoryStride reals per slot
+  PetscReal  *chist = nullptr;                  // kHistoryStride reals per slot
+  PetscReal  *dcoef = nullptr, *dref = nullptr; // coupling: V_p K and V_p K v_p of the last gas step
+  PetscInt64 *dcell = nullptr;                  // coupling: the cell of that step
 };
 PetscErrorCode ParticleArraysGet(DM swarm, ParticleArrays *a);
 PetscErrorCode ParticleArraysRestore(DM swarm, ParticleArrays *a);

@@ -19,8 +19,8 @@ struct GasProbes {
 };
 
 PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &domain, GasProbes *probes);
-// Column names for monitor.csv: p_y<height in mm>mm_avg, then p_probe<n>.
-void GasProbesColumns(const GasProbes &probes, std::vector<std::string> *names);
+// Column names for monitor.csv: p_y<height in mm, '_' for the decimal point>mm_avg, then p_probe<n>.
+void           GasProbesColumns(const GasProbes &probes, std::vector<std::string> *names);
 PetscErrorCode GasProbesMeasure(GasProbes *probes, Fluid *fluid, const Domain &domain, const FluidGrid &grid);
 
 } // namespace fluidbed

@@ -22,9 +22,9 @@ struct RunControl {
   PetscReal progress_interval              = 10.0; // wall-clock s between progress lines
   PetscBool write_particles                = PETSC_TRUE;
   char      output_dir[PETSC_MAX_PATH_LEN] = "output";
-  PetscBool fluid           = PETSC_FALSE; // -fluid: the gas phase
-  PetscBool particles       = PETSC_TRUE;  // -particles: the DEM
-  PetscInt  couple_substeps = 1;           // -couple_substeps: gas step = DEM step x this, with both on
+  PetscBool fluid                          = PETSC_FALSE; // -fluid: the gas phase
+  PetscBool particles                      = PETSC_TRUE;  // -particles: the DEM
+  PetscInt  couple_substeps                = 1;           // -couple_substeps: gas step = DEM step x this, with both on
 };
 
 // HDF5 snapshots every -output_interval, checkpoints every -checkpoint_interval, -restart FILE.
@@ -46,13 +46,13 @@ struct Simulation {
   Monitor         monitor;
   OutputSchedule  output;
   InsertionReport inserted;
-  Dem            *dem   = nullptr;
-  DM              swarm = nullptr;
-  Fluid          *fluid = nullptr;
+  Dem            *dem      = nullptr;
+  DM              swarm    = nullptr;
+  Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr; // particles and gas both on
   GasProbes       probes;
-  PetscInt64      step  = 0;
-  PetscReal       time  = 0.0;
+  PetscInt64      step       = 0;
+  PetscReal       time       = 0.0;
   PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)
   double          wall_setup = 0.0, wall_run = 0.0;
 };

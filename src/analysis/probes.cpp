@@ -14,15 +14,15 @@ PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProb
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "probe_", "Gas pressure probes (monitor.csv columns)", "Analysis");
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-heights", "Heights above the distributor of cross-section-averaged pressure", "m", Closed(0.0, 100.0), h, &nh,
-                             PETSC_FALSE, &set_h));
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-points", "Pressure probes x,y,z,x,y,z,... (z ignored in 2D)", "m", Closed(-100.0, 100.0), pts, &np, PETSC_FALSE,
-                             &set_p));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-heights", "Heights above the distributor of cross-section-averaged pressure", "m",
+                             Closed(0.0, 100.0), h, &nh, PETSC_FALSE, &set_h));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-points", "Pressure probes x,y,z,x,y,z,... (z ignored in 2D)", "m", Closed(-100.0, 100.0),
+                             pts, &np, PETSC_FALSE, &set_p));
   PetscOptionsEnd();
   if (set_h) {
     for (PetscInt k = 0; k < nh; ++k) {
-      PetscCheck(h[k] >= dom.lo[1] && h[k] <= dom.hi[1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-probe_heights: %.6g m is outside the bed [%.6g, %.6g] m",
-                 (double)h[k], (double)dom.lo[1], (double)dom.hi[1]);
+      PetscCheck(h[k] >= dom.lo[1] && h[k] <= dom.hi[1], comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "-probe_heights: %.6g m is outside the bed [%.6g, %.6g] m", (double)h[k], (double)dom.lo[1], (double)dom.hi[1]);
       pr->heights.push_back(h[k]);
     }
   }
@@ -30,8 +30,8 @@ PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProb
     PetscCheck(np % 3 == 0, comm, PETSC_ERR_USER_INPUT, "-probe_points takes x,y,z triples, got %d values", (int)np);
     for (PetscInt k = 0; k < np / 3; ++k) {
       for (int a = 0; a < dom.dim; ++a)
-        PetscCheck(pts[3 * k + a] >= dom.lo[a] && pts[3 * k + a] <= dom.hi[a], comm, PETSC_ERR_ARG_OUTOFRANGE, "-probe_points: probe %d lies outside the domain",
-                   (int)k);
+        PetscCheck(pts[3 * k + a] >= dom.lo[a] && pts[3 * k + a] <= dom.hi[a], comm, PETSC_ERR_ARG_OUTOFRANGE,
+                   "-probe_points: probe %d lies outside the domain", (int)k);
       pr->points.push_back({pts[3 * k], pts[3 * k + 1], pts[3 * k + 2]});
     }
   }
@@ -44,6 +44,8 @@ void GasProbesColumns(const GasProbes &pr, std::vector<std::string> *names)
   char buf[64];
   for (PetscReal y : pr.heights) {
     snprintf(buf, sizeof(buf), "p_y%.4gmm_avg", 1e3 * (double)y);
+    for (char *c = buf; *c; ++c)
+      if (*c == '.') *c = '_'; // CSV readers drop dots from column names
     names->push_back(buf);
   }
   for (std::size_t k = 0; k < pr.points.size(); ++k) names->push_back("p_probe" + std::to_string(k));
@@ -76,16 +78,18 @@ PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, 
   PetscCallMPI(MPI_Allreduce(loc.data(), prof.data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, comm));
   const PetscReal per_layer = (PetscReal)(grid.n[0] * (dim == 3 ? grid.n[2] : 1));
   for (auto &v : prof) v /= per_layer;
-  const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0], (int)grid.n[1],
-                                                 (int)grid.n[2]);
+  const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0],
+                                                 (int)grid.n[1], (int)grid.n[2]);
   for (std::size_t k = 0; k < pr->heights.size(); ++k) pr->values[k] = kernels::interpolate_profile(g, prof, pr->heights[k] - dom.lo[1]);
 
   // point probes: the value of the cell holding the point, from its owner
   std::vector<PetscReal> pl(pr->points.size(), 0.0), pg(pr->points.size());
   for (std::size_t q = 0; q < pr->points.size(); ++q) {
     PetscInt c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) c[d] = PetscMin(PetscMax((PetscInt)std::floor((pr->points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
-    if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2]) pl[q] = at(c[0], c[1], c[2]);
+    for (int d = 0; d < dim; ++d)
+      c[d] = PetscMin(PetscMax((PetscInt)std::floor((pr->points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
+    if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2])
+      pl[q] = at(c[0], c[1], c[2]);
   }
   PetscCall(VecRestoreArrayRead(p, &a));
   if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, comm));

@@ -111,7 +111,8 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(FluidSetUp(sim->fluid));
   }
   if (sim->dem && sim->fluid)
-    PetscCall(CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
+    PetscCall(
+      CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   sim->monitor.particles = sim->run.particles;
   sim->monitor.fluid     = sim->run.fluid;
@@ -197,8 +198,7 @@ PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
     PetscCall(GasProbesMeasure(&sim->probes, sim->fluid, sim->domain, sim->grids.fluid));
     extra.insert(extra.end(), sim->probes.values.begin(), sim->probes.values.end());
   }
-  PetscCall(
-    MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr,
+  PetscCall(MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr,
                          &extra));
   PetscFunctionReturn(0);
 }

@@ -4,6 +4,8 @@
 #include "fluidbed/dem.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
+#include <string>
+
 namespace fluidbed {
 
 using kernels::Vec3;
@@ -46,8 +48,13 @@ PetscErrorCode AllocSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key, Pe
       *slot = s;
       PetscFunctionReturn(0);
     }
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "particle %lld has more than %d simultaneous contacts: raise -dem_max_contacts",
-          (long long)p.id[i], (int)p.K);
+  {
+    std::string keys;
+    for (PetscInt s = 0; s < p.K; ++s) keys += " " + std::to_string((long long)p.ckey[p.K * i + s]);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+            "particle %lld has more than %d simultaneous contacts (partners:%s; new %lld): raise -dem_max_contacts", (long long)p.id[i],
+            (int)p.K, keys.c_str(), (long long)key);
+  }
 }
 
 PetscInt FindSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key)
@@ -205,6 +212,15 @@ PetscErrorCode DemContactForces(Dem *dem)
         c = EndContribution(par.pp, ne.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, LoadSlot(p, i, ne.slot));
         FreeSlot(p, i, ne.slot);
         ne.slot = -1;
+        // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more
+        // slots than it has contacts
+        if (j_local) {
+          NeighbourEntry &me = nl.entries[(std::size_t)ne.mirror];
+          if (me.slot >= 0) {
+            FreeSlot(p, j, me.slot);
+            me.slot = -1;
+          }
+        }
       } else active = 0; // apart: the entry adds nothing and its contribution is not stored
       dem->contribution_active[(std::size_t)e] = active;
       if (active) contrib[(std::size_t)e] = c;

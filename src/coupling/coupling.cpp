@@ -3,6 +3,8 @@
 #include "fluidbed/coupling.hpp"
 #include "fluidbed/options.hpp"
 
+#include <petscviewerhdf5.h>
+
 #include <cmath>
 
 namespace fluidbed {
@@ -12,12 +14,16 @@ using kernels::Vec3;
 enum CouplingGrid { COUPLING_GRID_TWO, COUPLING_GRID_SINGLE };
 static const char *const CouplingGridTypes[] = {"two", "single", "CouplingGrid", "COUPLING_GRID_", NULL};
 
-// Fields on the coupling grid (dof 1 + dim each):
-//   deposit: solid volume (m^3) | drag reaction summed over the cell's particles (N)
-//   gas:     void fraction      | gas velocity averaged over the cell's fluid cells (m/s)
+// Fields on the coupling grid:
+//   deposit (dof 2 + dim): solid volume (m^3) | B = sum of V_p K (N s/m) | M = sum of V_p K v_p (N)
+//   gas     (dof 2 + dim): void fraction      | (unused)                | gas velocity averaged over the cell's fluid cells (m/s)
+// The drag is linearised once per gas step: each particle keeps a = V_p K and b = a v_p (swarm fields drag_coef,
+// drag_ref) and feels F = a u - b with u its cell's gas velocity after that gas step (eq. 2.18); the gas gets
+// M - B u per cell, implicitly in u (fluid.hpp). Summed over a cell, the particles get B u - M: action and
+// reaction cancel exactly.
 struct Coupling {
-  MPI_Comm      comm = MPI_COMM_NULL;
-  const Domain *dom  = nullptr;
+  MPI_Comm      comm  = MPI_COMM_NULL;
+  const Domain *dom   = nullptr;
   const Grids  *grids = nullptr;
   Dem          *dem   = nullptr;
   Fluid        *fluid = nullptr;
@@ -26,17 +32,15 @@ struct Coupling {
   CouplingGrid  mode = COUPLING_GRID_TWO;
   PetscInt      n[3]{1, 1, 1}, ratio[3]{1, 1, 1};
   PetscReal     h[3]{1, 1, 1}, cell_volume = 1;
-  PetscReal     eps_min = 0.05;
-  PetscBool     divide_eps = PETSC_TRUE; // Model B drag = Model A drag / eps
+  PetscReal     eps_min       = 0.05;
+  PetscBool     divide_eps    = PETSC_TRUE; // Model B drag = Model A drag / eps
   char          drag_name[64] = "ergun_wenyu";
-  DragLaw       drag = nullptr;
+  DragLaw       drag          = nullptr;
   PetscReal     rho_g = 1.205, mu_g = 1.8e-5;
 
-  DM            da = nullptr;
+  DM            da      = nullptr;
   Vec           deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
-  Vec           reaction_acc = nullptr; // dof 1 + dim, reaction components summed over the DEM steps since the last gas step
-  PetscInt      acc_count = 0;
-  PetscReal     drag_acc[3]{0, 0, 0}; // total drag on the particles summed over the same steps
+  PetscInt      until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
   CouplingStats stats;
 };
 
@@ -46,8 +50,11 @@ namespace {
 struct CellView {
   PetscScalar *a = nullptr;
   PetscInt     s[3]{0, 0, 0}, m[3]{1, 1, 1}, dof = 1;
-  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c) const { return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c]; }
-  bool         Contains(const PetscInt c[3]) const
+  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c) const
+  {
+    return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
+  }
+  bool Contains(const PetscInt c[3]) const
   {
     for (int d = 0; d < 3; ++d)
       if (c[d] < s[d] || c[d] >= s[d] + m[d]) return false;
@@ -99,21 +106,13 @@ void ForOwnedCells(const CellView &v, Fn &&fn)
       for (PetscInt i = v.s[0]; i < v.s[0] + v.m[0]; ++i) fn(i, j, k);
 }
 
-// Drag on every local particle (eq. 2.11-2.18) with the void fraction of its coupling cell at the particles'
-// current positions; the reaction goes to the cell (eq. 2.21). Called by the DEM after the contact forces.
-PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
+// The coupling cell's void fraction (eq. 5.2-5.3) at the particles' current positions: solid volumes summed with
+// halos added to their owners, then the owned cells' eps, then halos.
+PetscErrorCode DepositVoidFraction(Coupling *c, PetscInt n, const ContactBody *bodies)
 {
-  Coupling *c = (Coupling *)ctx;
-  PetscInt  n;
-  PetscReal     *f;
-  CellView       dep, gas;
-  PetscReal      sum_local[3] = {0, 0, 0};
+  CellView dep, d, g;
 
   PetscFunctionBeginUser;
-  PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
-  PetscCall(DMSwarmGetLocalSize(swarm, &n));
-
-  // 1. solid volume per coupling cell (eq. 5.2), halos added to their owners
   PetscCall(VecZeroEntries(c->deposit_loc));
   PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
   for (PetscInt p = 0; p < n; ++p) {
@@ -126,72 +125,111 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
   PetscCall(VecZeroEntries(c->deposit));
   PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
 
-  // 2. void fraction of the owned cells (eq. 5.3), then halos
-  {
-    CellView  d, g;
-    PetscReal lo = 1.0, hi = 0.0;
-    PetscInt64 clamped = 0;
-    PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
-    PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
-    ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
-      PetscReal eps = 1.0 - d(i, j, k, 0) / c->cell_volume;
-      if (eps < c->eps_min) {
-        eps = c->eps_min;
-        ++clamped;
-      }
-      g(i, j, k, 0) = eps;
-      lo            = PetscMin(lo, eps);
-      hi            = PetscMax(hi, eps);
-    });
-    PetscCall(ViewRestore(c->gas, &g));
-    PetscCall(ViewRestore(c->deposit, &d));
-    PetscCallMPI(MPI_Allreduce(&lo, &c->stats.eps_min, 1, MPIU_REAL, MPI_MIN, c->comm));
-    PetscCallMPI(MPI_Allreduce(&hi, &c->stats.eps_max, 1, MPIU_REAL, MPI_MAX, c->comm));
-    PetscCallMPI(MPI_Allreduce(&clamped, &c->stats.clamped, 1, MPIU_INT64, MPI_SUM, c->comm));
-  }
+  PetscReal  lo = 1.0, hi = 0.0;
+  PetscInt64 clamped = 0;
+  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
+  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
+  ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
+    PetscReal eps = 1.0 - d(i, j, k, 0) / c->cell_volume;
+    if (eps < c->eps_min) {
+      eps = c->eps_min;
+      ++clamped;
+    }
+    g(i, j, k, 0) = eps;
+    lo            = PetscMin(lo, eps);
+    hi            = PetscMax(hi, eps);
+  });
+  PetscCall(ViewRestore(c->gas, &g));
+  PetscCall(ViewRestore(c->deposit, &d));
+  PetscCallMPI(MPI_Allreduce(&lo, &c->stats.eps_min, 1, MPIU_REAL, MPI_MIN, c->comm));
+  PetscCallMPI(MPI_Allreduce(&hi, &c->stats.eps_max, 1, MPIU_REAL, MPI_MAX, c->comm));
+  PetscCallMPI(MPI_Allreduce(&clamped, &c->stats.clamped, 1, MPIU_INT64, MPI_SUM, c->comm));
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  PetscFunctionReturn(0);
+}
 
-  // 3. drag with the predicted velocity (eq. 2.18), reaction into the cells (eq. 2.21)
-  PetscCall(VecZeroEntries(c->deposit_loc));
-  PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-  PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
+// Called by the DEM after the contact forces of every step: adds each particle's drag F = a u - b (eq. 2.18,
+// linearised at the last gas step); at the last step before a gas step, refreshes a and b with the current void
+// fraction and predicted velocities and sums B and M per cell for the gas (eq. 2.21, 5.1).
+PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
+{
+  Coupling   *c = (Coupling *)ctx;
+  PetscInt    n;
+  PetscReal  *f, *a, *b, sum_local[3] = {0, 0, 0};
+  PetscInt64 *cells;
+  CellView    gas, dep;
+
+  PetscFunctionBeginUser;
+  PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
+  PetscCall(DMSwarmGetLocalSize(swarm, &n));
   PetscCall(DMSwarmGetField(swarm, field::force, NULL, NULL, (void **)&f));
+  PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
+  PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
+  PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
+  PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
   for (PetscInt p = 0; p < n; ++p) {
-    const ContactBody &b = bodies[p];
-    PetscInt           cell[3];
-    CellOf(c, b.x, cell);
-    const PetscReal eps = gas(cell[0], cell[1], cell[2], 0);
-    Vec3            u;
-    for (PetscInt a = 0; a < c->dim; ++a) (&u.x)[a] = gas(cell[0], cell[1], cell[2], 1 + a);
-    const Vec3      slip = u - b.v;
-    const PetscReal K    = c->drag(kernels::DragInput{eps, 2.0 * b.r, c->rho_g, c->mu_g, kernels::norm(slip)}) / (c->divide_eps ? eps : 1.0);
-    const PetscReal Vp   = (4.0 / 3.0) * PETSC_PI * b.r * b.r * b.r;
-    const Vec3      F    = (Vp * K) * slip;
-    for (PetscInt a = 0; a < c->dim; ++a) {
-      f[3 * p + a] += (&F.x)[a];
-      dep(cell[0], cell[1], cell[2], 1 + a) -= (&F.x)[a];
-      sum_local[a] += (&F.x)[a];
+    // the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the
+    // gas step used (the particle may have crossed into another cell since)
+    const PetscInt cell[3] = {(PetscInt)(cells[p] % c->n[0]), (PetscInt)((cells[p] / c->n[0]) % c->n[1]),
+                              (PetscInt)(cells[p] / (c->n[0] * c->n[1]))};
+    PetscCheck(gas.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
+    for (PetscInt d = 0; d < c->dim; ++d) {
+      const PetscReal F = a[p] * gas(cell[0], cell[1], cell[2], 2 + d) - b[3 * p + d];
+      f[3 * p + d] += F;
+      sum_local[d] += F;
     }
   }
-  PetscCall(DMSwarmRestoreField(swarm, field::force, NULL, NULL, (void **)&f));
   PetscCall(ViewRestore(c->gas_loc, &gas));
-  PetscCall(ViewRestore(c->deposit_loc, &dep));
-  PetscCall(VecZeroEntries(c->deposit));
-  PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
-  PetscCall(VecAXPY(c->reaction_acc, 1.0, c->deposit)); // component 0 (volume) is zero here
-  c->acc_count++;
-  {
-    PetscReal sum[3];
-    PetscCallMPI(MPI_Allreduce(sum_local, sum, 3, MPIU_REAL, MPI_SUM, c->comm));
-    for (int a = 0; a < 3; ++a) c->drag_acc[a] += sum[a];
+  PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
+  PetscCall(DMSwarmRestoreField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
+  PetscCall(DMSwarmRestoreField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
+  PetscCall(DMSwarmRestoreField(swarm, field::force, NULL, NULL, (void **)&f));
+  PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_particles, 3, MPIU_REAL, MPI_SUM, c->comm));
+
+  if (c->until_gas <= 1) {
+    PetscCall(DepositVoidFraction(c, n, bodies));
+    PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
+    PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
+    PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
+    PetscCall(VecZeroEntries(c->deposit_loc));
+    PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
+    PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
+    for (PetscInt p = 0; p < n; ++p) {
+      const ContactBody &bp = bodies[p];
+      PetscInt           cell[3];
+      CellOf(c, bp.x, cell);
+      const PetscReal eps = gas(cell[0], cell[1], cell[2], 0);
+      Vec3            u;
+      for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gas(cell[0], cell[1], cell[2], 2 + d);
+      // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
+      const PetscReal K =
+        c->drag(kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) / (c->divide_eps ? eps : 1.0);
+      const PetscReal Vp = (4.0 / 3.0) * PETSC_PI * bp.r * bp.r * bp.r;
+      a[p]               = Vp * K;
+      cells[p]           = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
+      dep(cell[0], cell[1], cell[2], 1) += a[p];
+      for (PetscInt d = 0; d < 3; ++d) {
+        b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;
+        if (d < c->dim) dep(cell[0], cell[1], cell[2], 2 + d) += b[3 * p + d];
+      }
+    }
+    PetscCall(ViewRestore(c->gas_loc, &gas));
+    PetscCall(ViewRestore(c->deposit_loc, &dep));
+    PetscCall(VecZeroEntries(c->deposit));
+    PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit)); // component 0 (volume) is not used
+    PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
+    PetscCall(DMSwarmRestoreField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
+    PetscCall(DMSwarmRestoreField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
   }
+  c->until_gas--;
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
   PetscFunctionReturn(0);
 }
 
 } // namespace
 
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps, PhaseLog *log, Coupling **out)
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps,
+                              PhaseLog *log, Coupling **out)
 {
   Coupling *c = new Coupling;
 
@@ -205,16 +243,18 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   c->dim      = dom.dim;
   c->substeps = substeps;
   PetscOptionsBegin(comm, "", "Gas-particle coupling (seed eq. 2.11-2.21, two-grid mapping eq. 5.1-5.5)", "Coupling");
-  PetscCall(OptionsEnum(PetscOptionsObject, "-couple_grid", "Where void fraction and drag are summed: two (particle grid, eq. 5.1-5.5) or single (fluid grid)",
+  PetscCall(OptionsEnum(PetscOptionsObject, "-couple_grid",
+                        "Where void fraction and drag are summed: two (particle grid, eq. 5.1-5.5) or single (fluid grid)",
                         CouplingGridTypes, (PetscEnum *)&c->mode, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-couple_eps_min", "Floor of the void fraction (a cell overfilled by particle centres)", "", Closed(0.01, 0.9),
-                        &c->eps_min, NULL));
-  PetscCall(PetscOptionsBool("-couple_drag_model_b",
-                             "Model B particle drag = eq. 2.18 / eps, so that a packed bed's pressure drop is Ergun's and U_mf is eq. 3.1's (false: eq. 2.18 as "
-                             "printed, the Model A force)",
-                             "", c->divide_eps, &c->divide_eps, NULL));
-  PetscCall(PetscOptionsString("-drag_model", "Drag law: ergun_wenyu (the seed's blend, eq. 2.11-2.14), gidaspow, wen_yu, ergun, di_felice", "", c->drag_name,
-                               c->drag_name, sizeof(c->drag_name), NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-couple_eps_min", "Floor of the void fraction (a cell overfilled by particle centres)", "",
+                        Closed(0.01, 0.9), &c->eps_min, NULL));
+  PetscCall(PetscOptionsBool(
+    "-couple_drag_model_b",
+    "Model B particle drag = eq. 2.18 / eps, so that a packed bed's pressure drop is Ergun's and U_mf is eq. 3.1's (false: eq. 2.18 as "
+    "printed, the Model A force)",
+    "", c->divide_eps, &c->divide_eps, NULL));
+  PetscCall(PetscOptionsString("-drag_model", "Drag law: ergun_wenyu (the seed's blend, eq. 2.11-2.14), gidaspow, wen_yu, ergun, di_felice",
+                               "", c->drag_name, c->drag_name, sizeof(c->drag_name), NULL));
   PetscOptionsEnd();
   PetscCall(DragLawGet(c->drag_name, &c->drag));
   PetscCheck(FluidIsModelB(fluid), comm, PETSC_ERR_USER_INPUT, "the coupling implements the seed's Model B: use -fluid_model B");
@@ -224,8 +264,8 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   dem->body_force_factor = 1.0 - c->rho_g / dem->props->density;
 
   // The coupling grid: the particle cells, or the fluid cells.
-  const ParticleGrid &pg = grids.particle;
-  const FluidGrid    &fg = grids.fluid;
+  const ParticleGrid   &pg = grids.particle;
+  const FluidGrid      &fg = grids.fluid;
   std::vector<PetscInt> own[3];
   for (int a = 0; a < 3; ++a) {
     const bool two = c->mode == COUPLING_GRID_TWO;
@@ -235,23 +275,22 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
     if (a < c->dim)
       for (PetscInt r = 0; r < pg.procs[a]; ++r) own[a].push_back(two ? pg.start[a][r + 1] - pg.start[a][r] : fg.own[a][(std::size_t)r]);
   }
-  c->cell_volume = c->h[0] * c->h[1] * c->h[2];
-  const PetscInt dof = 1 + c->dim;
+  c->cell_volume     = c->h[0] * c->h[1] * c->h[2];
+  const PetscInt dof = 2 + c->dim;
   if (c->dim == 2)
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], pg.procs[0], pg.procs[1], dof, 1, own[0].data(),
-                           own[1].data(), &c->da));
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], pg.procs[0], pg.procs[1], dof, 1,
+                           own[0].data(), own[1].data(), &c->da));
   else
-    PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], c->n[2], pg.procs[0], pg.procs[1],
-                           pg.procs[2], dof, 1, own[0].data(), own[1].data(), own[2].data(), &c->da));
+    PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], c->n[2],
+                           pg.procs[0], pg.procs[1], pg.procs[2], dof, 1, own[0].data(), own[1].data(), own[2].data(), &c->da));
   PetscCall(DMSetUp(c->da));
   PetscCall(PetscObjectSetName((PetscObject)c->da, "coupling_grid"));
   PetscCall(DMCreateGlobalVector(c->da, &c->deposit));
   PetscCall(DMCreateLocalVector(c->da, &c->deposit_loc));
   PetscCall(VecDuplicate(c->deposit, &c->gas));
   PetscCall(VecDuplicate(c->deposit_loc, &c->gas_loc));
-  PetscCall(VecDuplicate(c->deposit, &c->reaction_acc));
-  PetscCall(VecSet(c->gas, 1.0)); // eps 1 and no gas motion until set
-  PetscCall(VecZeroEntries(c->reaction_acc));
+  PetscCall(VecZeroEntries(c->gas));
+  PetscCall(VecStrideSet(c->gas, 0, 1.0)); // eps 1 and no gas motion until set
 
   dem->external     = ParticleDrag;
   dem->external_ctx = c;
@@ -268,61 +307,56 @@ PetscErrorCode CouplingSetUp(Coupling *c)
 
 PetscErrorCode CouplingBeforeFluidStep(Coupling *c)
 {
-  DM        da_s, da_v;
-  Vec       eps_f, src_f;
-  CellView  g, r, e, s;
-  PetscReal sum_local[3] = {0, 0, 0};
+  DM       da_s, da_v;
+  Vec      eps_f, src_f, beta_f;
+  CellView g, d, e, s, be;
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
   PetscCall(FluidGetCellDMs(c->fluid, &da_s, &da_v));
   PetscCall(FluidGetVoidFraction(c->fluid, &eps_f));
   PetscCall(FluidGetMomentumSource(c->fluid, &src_f));
-  const PetscReal scale = c->acc_count ? 1.0 / (c->acc_count * c->cell_volume) : 0.0; // mean reaction per unit volume
+  PetscCall(FluidGetDragCoefficient(c->fluid, &beta_f));
+  const PetscReal inv_volume = 1.0 / c->cell_volume;
   PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
-  PetscCall(ViewGet(c->da, c->reaction_acc, PETSC_FALSE, &r));
+  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
   PetscCall(ViewGet(da_s, eps_f, PETSC_FALSE, &e));
+  PetscCall(ViewGet(da_s, beta_f, PETSC_FALSE, &be));
   PetscCall(ViewGet(da_v, src_f, PETSC_FALSE, &s));
-  const PetscReal fine_volume = c->grids->fluid.h[0] * c->grids->fluid.h[1] * c->grids->fluid.h[2];
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
-    // eq. 5.4-5.5: every fluid cell of the particle cell gets its void fraction; eq. 5.1: the reaction is spread
-    // by volume, i.e. the same force per unit volume in each fluid cell
+    // eq. 5.4-5.5: every fluid cell of the particle cell gets its void fraction; eq. 5.1: the drag reaction is
+    // spread by volume, the same per unit volume in each fluid cell (here as beta = B / V and M / V)
     for (PetscInt kk = k * c->ratio[2]; kk < (k + 1) * c->ratio[2]; ++kk)
       for (PetscInt jj = j * c->ratio[1]; jj < (j + 1) * c->ratio[1]; ++jj)
         for (PetscInt ii = i * c->ratio[0]; ii < (i + 1) * c->ratio[0]; ++ii) {
-          e(ii, jj, kk, 0) = g(i, j, k, 0);
-          for (PetscInt a = 0; a < c->dim; ++a) {
-            s(ii, jj, kk, a) = scale * r(i, j, k, 1 + a);
-            sum_local[a] += s(ii, jj, kk, a) * fine_volume;
-          }
+          e(ii, jj, kk, 0)  = g(i, j, k, 0);
+          be(ii, jj, kk, 0) = d(i, j, k, 1) * inv_volume;
+          for (PetscInt a = 0; a < c->dim; ++a) s(ii, jj, kk, a) = d(i, j, k, 2 + a) * inv_volume;
         }
   });
   PetscCall(ViewRestore(src_f, &s));
+  PetscCall(ViewRestore(beta_f, &be));
   PetscCall(ViewRestore(eps_f, &e));
-  PetscCall(ViewRestore(c->reaction_acc, &r));
+  PetscCall(ViewRestore(c->deposit, &d));
   PetscCall(ViewRestore(c->gas, &g));
-  PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_gas, 3, MPIU_REAL, MPI_SUM, c->comm));
-  for (int a = 0; a < 3; ++a) {
-    c->stats.drag_particles[a] = c->acc_count ? c->drag_acc[a] / c->acc_count : 0.0;
-    c->drag_acc[a]             = 0.0;
-  }
-  PetscCall(VecZeroEntries(c->reaction_acc));
-  c->acc_count = 0;
+  c->until_gas = c->substeps;
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingAfterFluidStep(Coupling *c)
 {
-  DM       da_v;
-  Vec      u_f;
-  CellView g, u;
+  DM        da_v;
+  Vec       u_f;
+  CellView  g, u, d;
+  PetscReal sum_local[3] = {0, 0, 0};
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
   PetscCall(FluidGetCellDMs(c->fluid, NULL, &da_v));
   PetscCall(FluidGetCellVelocity(c->fluid, &u_f));
   PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
+  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
   PetscCall(ViewGet(da_v, u_f, PETSC_FALSE, &u));
   const PetscReal inv = 1.0 / (PetscReal)(c->ratio[0] * c->ratio[1] * c->ratio[2]);
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
@@ -332,25 +366,63 @@ PetscErrorCode CouplingAfterFluidStep(Coupling *c)
       for (PetscInt jj = j * c->ratio[1]; jj < (j + 1) * c->ratio[1]; ++jj)
         for (PetscInt ii = i * c->ratio[0]; ii < (i + 1) * c->ratio[0]; ++ii)
           for (PetscInt a = 0; a < c->dim; ++a) sum[a] += u(ii, jj, kk, a);
-    for (PetscInt a = 0; a < c->dim; ++a) g(i, j, k, 1 + a) = sum[a] * inv;
+    for (PetscInt a = 0; a < c->dim; ++a) {
+      g(i, j, k, 2 + a) = sum[a] * inv;
+      sum_local[a] += d(i, j, k, 2 + a) - d(i, j, k, 1) * g(i, j, k, 2 + a); // the gas's drag M - B u (eq. 2.21)
+    }
   });
   PetscCall(ViewRestore(u_f, &u));
+  PetscCall(ViewRestore(c->deposit, &d));
   PetscCall(ViewRestore(c->gas, &g));
+  PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_gas, 3, MPIU_REAL, MPI_SUM, c->comm));
+  PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
   PetscFunctionReturn(0);
 }
 
-const CouplingStats &CouplingGetStats(const Coupling *c) { return c->stats; }
+PetscErrorCode CouplingWriteHDF5(Coupling *c, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/coupling"));
+  PetscCall(PetscObjectSetName((PetscObject)c->deposit, "cell_sums"));
+  PetscCall(VecView(c->deposit, viewer));
+  PetscCall(PetscObjectSetName((PetscObject)c->gas, "cell_gas"));
+  PetscCall(VecView(c->gas, viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/coupling", "until_gas", PETSC_INT, &c->until_gas));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/coupling"));
+  PetscCall(PetscObjectSetName((PetscObject)c->deposit, "cell_sums"));
+  PetscCall(VecLoad(c->deposit, viewer));
+  PetscCall(PetscObjectSetName((PetscObject)c->gas, "cell_gas"));
+  PetscCall(VecLoad(c->gas, viewer));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/coupling", "until_gas", PETSC_INT, NULL, &c->until_gas));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  PetscFunctionReturn(0);
+}
+
+const CouplingStats &CouplingGetStats(const Coupling *c)
+{
+  return c->stats;
+}
 
 PetscErrorCode CouplingView(const Coupling *c, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
   if (c->mode == COUPLING_GRID_TWO)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Coupling: two grids, particle cells of %d x %d x %d fluid cells; drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
-                                     (int)c->ratio[0], (int)c->ratio[1], (int)c->ratio[2], c->drag_name, (int)c->substeps));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Coupling: two grids, particle cells of %d x %d x %d fluid cells; drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
+      (int)c->ratio[0], (int)c->ratio[1], (int)c->ratio[2], c->drag_name, (int)c->substeps));
   else
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Coupling: single grid (void fraction and drag on the fluid cells); drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
-                                     c->drag_name, (int)c->substeps));
+    PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Coupling: single grid (void fraction and drag on the fluid cells); drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
+      c->drag_name, (int)c->substeps));
   PetscFunctionReturn(0);
 }
 
@@ -362,7 +434,6 @@ PetscErrorCode CouplingDestroy(Coupling **c)
   PetscCall(VecDestroy(&(*c)->deposit_loc));
   PetscCall(VecDestroy(&(*c)->gas));
   PetscCall(VecDestroy(&(*c)->gas_loc));
-  PetscCall(VecDestroy(&(*c)->reaction_acc));
   PetscCall(DMDestroy(&(*c)->da));
   delete *c;
   *c = nullptr;

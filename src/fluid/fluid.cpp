@@ -152,6 +152,13 @@ PetscErrorCode ScatterScalars(Fluid *f)
   PetscCall(DMGlobalToLocal(f->da_s, f->eps_old, INSERT_VALUES, f->eps_old_loc));
   PetscCall(FluidFillGhosts(f, f->eps_old_loc, 0));
   PetscCall(DMGlobalToLocal(f->da_c, f->source, INSERT_VALUES, f->source_loc));
+  PetscCall(DMGlobalToLocal(f->da_s, f->drag, INSERT_VALUES, f->drag_loc));
+  PetscCall(FluidFillGhosts(f, f->drag_loc, 0));
+  {
+    PetscReal m;
+    PetscCall(VecMax(f->drag, NULL, &m));
+    f->has_drag = m > 0 ? PETSC_TRUE : PETSC_FALSE;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -225,6 +232,9 @@ PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid 
   PetscCall(VecDuplicate(f->source, &f->cell_u));
   PetscCall(PetscObjectSetName((PetscObject)f->cell_u, "cell_velocity"));
   PetscCall(DMCreateLocalVector(f->da_c, &f->source_loc));
+  PetscCall(VecDuplicate(f->eps, &f->drag));
+  PetscCall(PetscObjectSetName((PetscObject)f->drag, "drag_coefficient"));
+  PetscCall(VecDuplicate(f->eps_loc, &f->drag_loc));
   PetscCall(VecSet(f->eps, 1.0));
   PetscFunctionReturn(0);
 }
@@ -317,6 +327,13 @@ PetscErrorCode FluidGetMomentumSource(Fluid *f, Vec *source)
 {
   PetscFunctionBeginUser;
   *source = f->source;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetDragCoefficient(Fluid *f, Vec *beta)
+{
+  PetscFunctionBeginUser;
+  *beta = f->drag;
   PetscFunctionReturn(0);
 }
 
@@ -502,8 +519,8 @@ PetscErrorCode FluidDestroy(Fluid **fluid)
   PetscFunctionBeginUser;
   if (!f) PetscFunctionReturn(0);
   PetscCall(FluidPressureDestroy(f));
-  Vec *vecs[] = {&f->u,      &f->u_loc, &f->eps,     &f->eps_old, &f->eps_loc, &f->eps_old_loc, &f->source,   &f->source_loc,
-                 &f->cell_u, &f->phi,   &f->phi_loc, &f->rhs,     &f->p,       &f->u_top,       &f->u_top_loc};
+  Vec *vecs[] = {&f->u,        &f->u_loc,  &f->eps, &f->eps_old, &f->eps_loc, &f->eps_old_loc, &f->source, &f->source_loc, &f->drag,
+                 &f->drag_loc, &f->cell_u, &f->phi, &f->phi_loc, &f->rhs,     &f->p,           &f->u_top,  &f->u_top_loc};
   for (Vec *v : vecs) PetscCall(VecDestroy(v));
   PetscCall(DMDestroy(&f->da_s));
   PetscCall(DMDestroy(&f->da_u));

@@ -91,8 +91,14 @@ struct Fluid {
   Vec u = nullptr, u_loc = nullptr;
   Vec eps = nullptr, eps_old = nullptr, eps_loc = nullptr, eps_old_loc = nullptr;
   Vec source = nullptr, source_loc = nullptr;
-  Vec cell_u = nullptr;
-  Vec phi = nullptr, phi_loc = nullptr, rhs = nullptr, p = nullptr;
+  // Implicit drag: the coupling's interphase coefficient per unit volume beta (N s/m^4, cell-centred); the gas
+  // feels source - beta u at the end of the step. has_drag: some beta is nonzero (the pressure operator then
+  // depends on it and on dt).
+  Vec       drag = nullptr, drag_loc = nullptr;
+  PetscBool has_drag = PETSC_FALSE;
+  PetscReal dt_last  = 0; // the step of the last assembly
+  Vec       cell_u   = nullptr;
+  Vec       phi = nullptr, phi_loc = nullptr, rhs = nullptr, p = nullptr;
   // Velocity of the top boundary face of each top cell (outlets), kept at that cell's entry of a scalar field so
   // that neighbours see it through the ghost exchange; other entries unused.
   Vec u_top = nullptr, u_top_loc = nullptr;
@@ -136,6 +142,13 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt);
 PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
 PetscErrorCode FluidPressureDestroy(Fluid *f);
 PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc); // the pressure KSP and PC types
+
+// The projection's face coefficient: ε_f u = ε_f u* - c_f grad(phi) with phi = dt p / rho. c0 is 1 for model B
+// (-grad p) and eps_f for model A (-eps grad p); an implicit drag beta_f divides by 1 + dt beta_f / (rho eps_f).
+inline PetscReal ProjectionCoefficient(PetscReal c0, PetscReal eps_f, PetscReal beta_f, PetscReal dt, PetscReal rho)
+{
+  return beta_f == 0 ? c0 : c0 * eps_f / (eps_f + dt * beta_f / rho);
+}
 
 // Views on local arrays.
 PetscErrorCode   FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);

@@ -63,7 +63,10 @@ PetscErrorCode FluidGetGasProperties(const Fluid *f, PetscReal *rho, PetscReal *
   PetscFunctionReturn(0);
 }
 
-PetscBool FluidIsModelB(const Fluid *f) { return f->model == FLUID_MODEL_B ? PETSC_TRUE : PETSC_FALSE; }
+PetscBool FluidIsModelB(const Fluid *f)
+{
+  return f->model == FLUID_MODEL_B ? PETSC_TRUE : PETSC_FALSE;
+}
 
 PetscErrorCode FluidReadHDF5(Fluid *f, PetscViewer viewer)
 {

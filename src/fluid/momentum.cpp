@@ -35,6 +35,8 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_c, f->source_loc, PETSC_TRUE, &S));
+  FieldView B;
+  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
   // volume flux through the lower b-face of cell q, at the old void fraction
   auto flux = [&](const Cell &q, int b) { return FaceEps(E0, q.c, b) * U.at(q.c, b) * f->area[b]; };
@@ -73,10 +75,12 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
       const PetscReal gravity = f->rho * f->dom->gravity[a] * (f->model == FLUID_MODEL_B ? 1.0 : eps_new);
       const PetscReal source  = 0.5 * (S.at(L.c, a) + S.at(P.c, a)) + f->body_force[a];
       const PetscReal m       = eps_old * u(P) + dt * ((nu * visc - conv) / f->vol + (source + gravity) / f->rho);
-      Un.at(P.c, a)           = m / eps_new;
+      const PetscReal beta    = f->has_drag ? FaceEps(B, P.c, a) : 0.0; // implicit drag: m = (eps + dt beta / rho) u*
+      Un.at(P.c, a)           = m / (eps_new + dt * beta / f->rho);
     }
   });
   PetscCall(FieldRestore(f->u, &Un));
+  PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->source_loc, &S));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->eps_old_loc, &E0));

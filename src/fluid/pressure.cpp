@@ -16,9 +16,12 @@ namespace fluidbed {
 
 namespace {
 
-PetscReal FaceCoefficient(const Fluid *f, const FieldView &E, const PetscInt c[3], int a)
+// c_f of the projection at the lower a-face of cell c (fluid_impl.hpp): B is the drag coefficient's view (read
+// only when the coupling set one), dt the step.
+PetscReal FaceCoefficient(const Fluid *f, const FieldView &E, const FieldView &B, PetscReal dt, const PetscInt c[3], int a)
 {
-  return f->model == FLUID_MODEL_B ? 1.0 : FaceEps(E, c, a);
+  const PetscReal e = FaceEps(E, c, a);
+  return ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : e, e, f->has_drag ? FaceEps(B, c, a) : 0.0, dt, f->rho);
 }
 
 // Volume flux eps_f u A out of cell c through its faces (m^3/s).
@@ -32,13 +35,15 @@ PetscReal NetOutflow(const Fluid *f, const FieldView &U, const FieldView &E, con
   return out;
 }
 
-PetscErrorCode AssembleMatrix(Fluid *f)
+PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
 {
-  FieldView E;
+  FieldView E, B;
 
   PetscFunctionBeginUser;
   PetscCall(MatZeroEntries(f->A));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
+  f->dt_last = dt;
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
     for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
@@ -52,12 +57,13 @@ PetscErrorCode AssembleMatrix(Fluid *f)
             nb[a] += side ? 1 : -1;
             if (!f->periodic[a] && (nb[a] < 0 || nb[a] >= f->n[a])) {
               if (f->bc[2 * a + side] == FLUID_BC_PRESSURE)
-                diag += (f->model == FLUID_MODEL_B ? 1.0 : E.at(c)) * f->area[a] / (0.5 * f->h[a]);
+                diag += ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : E.at(c), E.at(c), f->has_drag ? B.at(c) : 0.0, dt, f->rho) *
+                        f->area[a] / (0.5 * f->h[a]);
               continue; // otherwise the normal velocity is given: no pressure flux
             }
             const PetscInt fc[3] = {side ? nb[0] : i, side ? nb[1] : j,
                                     side ? nb[2] : k}; // the shared face, as the lower face of its upper cell
-            const PetscReal coef = FaceCoefficient(f, E, fc, a) * f->area[a] / f->h[a];
+            const PetscReal coef = FaceCoefficient(f, E, B, dt, fc, a) * f->area[a] / f->h[a];
             col[n]               = {nb[2], nb[1], nb[0], 0};
             val[n++]             = -coef;
             diag += coef;
@@ -66,6 +72,7 @@ PetscErrorCode AssembleMatrix(Fluid *f)
         val[n++] = diag;
         PetscCall(MatSetValuesStencil(f->A, 1, &row, n, col, val, ADD_VALUES));
       }
+  PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(MatAssemblyBegin(f->A, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->A, MAT_FINAL_ASSEMBLY));
@@ -214,7 +221,7 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-  PetscCall(AssembleMatrix(f));
+  PetscCall(AssembleMatrix(f, 0.0));
   if (!f->has_dirichlet) {
     PetscCall(MatNullSpaceCreate(f->comm, PETSC_TRUE, 0, NULL, &f->nullspace));
     PetscCall(MatSetNullSpace(f->A, f->nullspace));
@@ -274,11 +281,12 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   PetscBool          rebuild = PETSC_FALSE, same = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  // model A: the operator follows eps (assembled last with eps_old); the preconditioner is rebuilt every
-  // -fluid_pc_reuse solves at most
+  // model A: the operator follows eps (assembled last with eps_old); with an implicit drag it follows the drag
+  // coefficient and dt (and eps) at every step. The preconditioner is rebuilt every -fluid_pc_reuse solves at most.
   if (f->model == FLUID_MODEL_A) PetscCall(VecEqual(f->eps, f->eps_old, &same));
+  if (f->has_drag || f->dt_last != 0) same = PETSC_FALSE; // dt_last != 0: the last assembly had a drag to undo
   if (!same) {
-    PetscCall(AssembleMatrix(f));
+    PetscCall(AssembleMatrix(f, f->has_drag ? dt : 0.0));
     rebuild = (PetscBool)(f->since_pc + 1 >= f->pc_reuse);
     PetscCall(KSPSetReusePreconditioner(f->ksp, rebuild ? PETSC_FALSE : PETSC_TRUE));
   }
@@ -330,11 +338,11 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
 
 PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
 {
-  FieldView U, E, Ph, Un;
+  FieldView U, E, B, Ph, Un;
 
   PetscFunctionBeginUser;
-  (void)dt;
   PetscCall(DMGlobalToLocal(f->da_p, f->phi, INSERT_VALUES, f->phi_loc));
+  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
@@ -345,7 +353,7 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
       if (!f->periodic[a] && c[a] == 0) continue;
       const PetscInt  l[3] = {i - (a == 0), j - (a == 1), k - (a == 2)};
       const PetscReal e    = FaceEps(E, c, a);
-      Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
+      Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, B, dt, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
     }
   });
   if (f->has_dirichlet && f->xs[1] + f->xm[1] == f->n[1]) {
@@ -355,13 +363,15 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
     for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
         const PetscInt  c[3] = {i, j, k};
-        const PetscReal coef = f->model == FLUID_MODEL_B ? 1.0 / E.at(c) : 1.0;
-        top(i, j, k)         = U(i, j + 1, k, 1) - coef * (0.0 - Ph.at(c)) / (0.5 * f->h[1]);
+        const PetscReal coef =
+          ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : E.at(c), E.at(c), f->has_drag ? B.at(c) : 0.0, dt, f->rho) / E.at(c);
+        top(i, j, k) = U(i, j + 1, k, 1) - coef * (0.0 - Ph.at(c)) / (0.5 * f->h[1]);
       }
     PetscCall(FieldRestore(f->u_top, &top));
   }
   PetscCall(FieldRestore(f->u, &Un));
   PetscCall(FieldRestore(f->phi_loc, &Ph));
+  PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->u_loc, &U));
   PetscFunctionReturn(0);

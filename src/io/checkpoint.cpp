@@ -114,6 +114,7 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
   }
   if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
   if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
+  if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscCall(CommitFile(sim->comm, path));
   PetscFunctionReturn(0);
@@ -182,6 +183,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
     PetscCall(FluidReadHDF5(sim->fluid, viewer));
   }
+  if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }

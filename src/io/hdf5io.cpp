@@ -64,6 +64,9 @@ PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
     PetscCall(WriteRows(viewer, comm, "torque", 3, p.n, p.t));
     PetscCall(WriteRowsInt64(viewer, comm, "contact_key", p.K, p.n, p.ckey));
     PetscCall(WriteRows(viewer, comm, "contact_hist", kHistoryStride * p.K, p.n, p.chist));
+    PetscCall(WriteRows(viewer, comm, "drag_coef", 1, p.n, p.dcoef));
+    PetscCall(WriteRows(viewer, comm, "drag_ref", 3, p.n, p.dref));
+    PetscCall(WriteRowsInt64(viewer, comm, "drag_cell", 1, p.n, p.dcell));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
   }
   PetscCall(PetscViewerHDF5PopGroup(viewer));
@@ -91,7 +94,8 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
     Vec         v;
   } sets[] = {{"position", dim, NULL}, {"velocity", 3, NULL},     {"omega", 3, NULL},
               {"force", 3, NULL},      {"torque", 3, NULL},       {"diameter", 1, NULL},
-              {"id", 1, NULL},         {"contact_key", Kf, NULL}, {"contact_hist", kHistoryStride * Kf, NULL}};
+              {"id", 1, NULL},         {"contact_key", Kf, NULL}, {"contact_hist", kHistoryStride * Kf, NULL},
+              {"drag_coef", 1, NULL},  {"drag_ref", 3, NULL},     {"drag_cell", 1, NULL}};
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
   for (auto &s : sets) PetscCall(ReadRows(viewer, comm, s.name, s.bs, &s.v));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
@@ -173,6 +177,11 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
         p.ckey[K * i + s] = key;
         for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = r[o + Kf + kHistoryStride * s + c];
       }
+      o += Kf + kHistoryStride * Kf;
+      p.dcoef[i] = r[o++];
+      for (int c = 0; c < 3; ++c) p.dref[3 * i + c] = r[o + c];
+      o += 3;
+      p.dcell[i] = (PetscInt64)r[o];
     }
     PetscCall(ParticleArraysRestore(sw, &p));
     PetscCall(DMSwarmRestoreField(rows, "row", NULL, NULL, (void **)&buf));

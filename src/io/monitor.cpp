@@ -93,13 +93,14 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
     m->csv                  = fopen(path.c_str(), fresh ? "w" : "a");
     PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path.c_str());
     if (fresh) {
-    fprintf(m->csv, "step,time");
-    if (m->particles)
-      fprintf(m->csv, ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
-                      "outlet_removed,rebuilds");
-    if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
-    for (const std::string &name : m->extra_columns) fprintf(m->csv, ",%s", name.c_str());
-    fprintf(m->csv, "\n");
+      fprintf(m->csv, "step,time");
+      if (m->particles)
+        fprintf(m->csv,
+                ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
+                "outlet_removed,rebuilds");
+      if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
+      for (const std::string &name : m->extra_columns) fprintf(m->csv, ",%s", name.c_str());
+      fprintf(m->csv, "\n");
     }
     if (!m->track_ids.empty()) {
       const std::string tpath  = std::string(dir) + "/track.csv";

@@ -231,9 +231,11 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
     p.w[3 * k + 0] = g.w[i].x;
     p.w[3 * k + 1] = g.w[i].y;
     p.w[3 * k + 2] = g.w[i].z;
-    for (int c3 = 0; c3 < 3; ++c3) p.f[3 * k + c3] = p.t[3 * k + c3] = 0.0;
-    p.d[k]  = g.d[i];
-    p.id[k] = g.id[i];
+    for (int c3 = 0; c3 < 3; ++c3) p.f[3 * k + c3] = p.t[3 * k + c3] = p.dref[3 * k + c3] = 0.0;
+    p.dcoef[k] = 0.0;
+    p.dcell[k] = 0;
+    p.d[k]     = g.d[i];
+    p.id[k]    = g.id[i];
     for (PetscInt s = 0; s < p.K; ++s) {
       p.ckey[p.K * k + s] = kFreeSlot;
       for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (p.K * k + s) + c] = 0.0;

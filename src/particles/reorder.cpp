@@ -13,9 +13,8 @@ namespace fluidbed {
 
 PetscErrorCode ParticlesPermute(DM sw, const std::vector<PetscInt> &order)
 {
-  const char       *names[] = {DMSwarmPICField_coor, field::velocity,  field::omega,      field::force,
-                               field::torque,        field::diameter,  field::id,         field::contact_key,
-                               field::contact_hist,  DMSwarmField_pid, DMSwarmField_rank, DMSwarmPICField_cellid};
+  std::vector<const char *> names = {DMSwarmPICField_coor, DMSwarmField_pid, DMSwarmField_rank, DMSwarmPICField_cellid};
+  names.insert(names.end(), std::begin(field::all), std::end(field::all));
   std::vector<char> tmp;
   PetscInt          n;
 

@@ -46,6 +46,9 @@ PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &dom, const ParticleG
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::id, 1, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::contact_key, K, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::contact_hist, kHistoryStride * K, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_coef, 1, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_ref, 3, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_cell, 1, PETSC_INT64));
   PetscCall(DMSwarmFinalizeFieldRegister(sw));
   PetscCall(DMSwarmSetLocalSizes(sw, 0, 1024));
   *swarm = sw;
@@ -68,6 +71,9 @@ PetscErrorCode ParticleArraysGet(DM sw, ParticleArrays *a)
   PetscCall(DMSwarmGetField(sw, field::id, NULL, NULL, (void **)&a->id));
   PetscCall(DMSwarmGetField(sw, field::contact_key, &bs, NULL, (void **)&a->ckey));
   PetscCall(DMSwarmGetField(sw, field::contact_hist, NULL, NULL, (void **)&a->chist));
+  PetscCall(DMSwarmGetField(sw, field::drag_coef, NULL, NULL, (void **)&a->dcoef));
+  PetscCall(DMSwarmGetField(sw, field::drag_ref, NULL, NULL, (void **)&a->dref));
+  PetscCall(DMSwarmGetField(sw, field::drag_cell, NULL, NULL, (void **)&a->dcell));
   a->K = bs;
   PetscFunctionReturn(0);
 }
@@ -84,6 +90,9 @@ PetscErrorCode ParticleArraysRestore(DM sw, ParticleArrays *a)
   PetscCall(DMSwarmRestoreField(sw, field::id, NULL, NULL, (void **)&a->id));
   PetscCall(DMSwarmRestoreField(sw, field::contact_key, NULL, NULL, (void **)&a->ckey));
   PetscCall(DMSwarmRestoreField(sw, field::contact_hist, NULL, NULL, (void **)&a->chist));
+  PetscCall(DMSwarmRestoreField(sw, field::drag_coef, NULL, NULL, (void **)&a->dcoef));
+  PetscCall(DMSwarmRestoreField(sw, field::drag_ref, NULL, NULL, (void **)&a->dref));
+  PetscCall(DMSwarmRestoreField(sw, field::drag_cell, NULL, NULL, (void **)&a->dcell));
   PetscFunctionReturn(0);
 }
 
