@@ -90,8 +90,8 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsReal(PetscOptionsObject, "-cfl", "Fraction of the combined convective + viscous explicit limit used as the step", "",
                         Closed(0.01, 1.0), &f->cfl, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse",
-                       "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A)", 1, 1000000,
-                       &f->pc_reuse, NULL));
+                       "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A eps, implicit drag)", 1,
+                       1000000, &f->pc_reuse, NULL));
   PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells,
                              &f->output_cells, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",

@@ -64,7 +64,7 @@ struct Fluid {
   PetscReal        body_force[3]{0, 0, 0};       // N/m^3, added to the momentum source
   PetscReal        initial_velocity[3]{0, 0, 0}; // m/s, superficial
   PetscReal        dt_fixed = 0, cfl = 0.9;
-  PetscInt         pc_reuse     = 1;
+  PetscInt         pc_reuse     = 10; // the operator changes every step in coupled runs; its AMG set-up costs more than a solve
   PetscBool        output_cells = PETSC_TRUE;
   PetscReal        eps_uniform  = 1.0;
   PetscReal        eps_sphere[5]{0, 0, 0, 0, 1};

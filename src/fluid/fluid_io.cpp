@@ -47,6 +47,9 @@ PetscErrorCode FluidWriteHDF5(Fluid *f, PetscViewer viewer, PetscBool full)
     PetscCall(ViewNamed(f->source, "momentum_source", viewer));
     PetscCall(ViewNamed(f->u_top, "outlet_velocity", viewer));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "time", PETSC_REAL, &f->time));
+    // the next solve rebuilds the preconditioner, in this run and in one restarted from this checkpoint alike, so a
+    // restart repeats the uninterrupted run exactly
+    f->since_pc = f->pc_reuse;
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "since_pc", PETSC_INT, &f->since_pc));
     const PetscReal steps = (PetscReal)f->stats.steps;
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "steps", PETSC_REAL, &steps));

@@ -308,6 +308,9 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   PetscCall(VecNorm(f->rhs, NORM_2, &f->stats.rhs_scale));
   f->stats.rhs_scale /= f->vol;
 
+  // initial guess: the last step's pressure (phi = dt p / rho); the pressure changes little from step to step
+  PetscCall(VecAXPBY(f->phi, dt / f->rho, 0.0, f->p));
+  PetscCall(KSPSetInitialGuessNonzero(f->ksp, PETSC_TRUE));
   const double t0 = MPI_Wtime();
   PetscCall(KSPSetUp(f->ksp));
   PetscCall(KSPSolve(f->ksp, f->rhs, f->phi));
