@@ -14,7 +14,7 @@ extern const char *const FaceNames[FACE_COUNT];
 
 struct Domain {
   PetscInt dim = 3;
-  // Defaults: the default scene's box (20 x 40 x 20 mm).
+  // Defaults (no scene options): a 20 x 40 x 20 mm box.
   PetscReal lo[3]{0, 0, 0};
   PetscReal hi[3]{0.02, 0.04, 0.02};
   PetscReal len[3]{0.02, 0.04, 0.02};

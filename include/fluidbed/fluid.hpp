@@ -31,9 +31,11 @@ struct FluidStats {
   PetscReal  ksp_time  = 0;                    // its wall time (s), PC set-up included
   PetscInt64 solves = 0, ksp_its_total = 0, pc_setups = 0;
   PetscReal  ksp_time_total = 0;
-  PetscReal  max_div        = 0;      // max over cells of |div(eps u) + d(eps)/dt| after the projection (1/s)
-  PetscReal  max_speed      = 0;      // m/s, largest face velocity
-  PetscReal  inflow = 0, outflow = 0; // m^3/s through the bottom (in) and the top (out)
+  PetscReal  max_div        = 0;           // max over cells of |div(eps u) + d(eps)/dt| after the projection (1/s)
+  PetscReal  max_speed      = 0;           // m/s, largest face velocity
+  PetscReal  courant = 0, courant_max = 0; // dt x the combined explicit rate at the last step and its maximum (stable <= 1)
+  PetscReal  courant_max_time = 0;         // s, when the maximum occurred
+  PetscReal  inflow = 0, outflow = 0;      // m^3/s through the bottom (in) and the top (out)
 };
 
 // Reads the -fluid_*, -fluid_bc_* and -inlet_* options and creates the fields; grid is the fine fluid grid.

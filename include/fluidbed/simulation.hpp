@@ -17,7 +17,7 @@
 namespace fluidbed {
 
 struct RunControl {
-  PetscReal t_final                        = 0.3;  // s (the default scene: a 4000-particle pour that settles)
+  PetscReal t_final                        = 0.3;  // s (with no scene options: a 4000-particle pour that settles)
   PetscInt  max_steps                      = -1;   // < 0: no limit
   PetscReal progress_interval              = 10.0; // wall-clock s between progress lines
   PetscBool write_particles                = PETSC_TRUE;

@@ -293,6 +293,23 @@ PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
     PetscCall(SetFrozenVoidFraction(f, f->time + dt)); // gas-only scenes: the void fraction at the end of the step
   PetscCall(ScatterScalars(f));
   PetscCall(FluidScatterVelocity(f));
+  {
+    // In coupled runs the step is fixed (DEM step x -couple_substeps) while the gas speeds up in jets and bubbles:
+    // measure how close it is to the explicit limit and warn the first time it is exceeded.
+    kernels::StepRates r;
+    PetscCall(FluidStepRates(f, &r));
+    f->stats.courant = dt * (r.conv + r.visc);
+    if (f->stats.courant > 1 && f->stats.courant_max <= 1)
+      PetscCall(
+        PetscPrintf(f->comm,
+                    "WARNING: gas step %.4g s exceeds the explicit stability limit %.4g s at t = %.6g s (largest gas speed %.4g m/s); "
+                    "lower -couple_substeps (or -fluid_dt)\n",
+                    (double)dt, (double)(1.0 / (r.conv + r.visc)), (double)f->time, (double)f->stats.max_speed));
+    if (f->stats.courant > f->stats.courant_max) {
+      f->stats.courant_max      = f->stats.courant;
+      f->stats.courant_max_time = f->time;
+    }
+  }
   PetscCall(FluidPredictor(f, dt));
   PetscCall(FluidSetBoundaryFaces(f, dt, PETSC_TRUE));
   PetscCall(FluidScatterVelocity(f));
@@ -443,6 +460,8 @@ PetscErrorCode FluidAddSummary(Fluid *f, JsonWriter *json)
   g.Number("pressure_time_last", s.ksp_time);
   g.Number("max_div", s.max_div);
   g.Number("max_speed", s.max_speed);
+  g.Number("courant_max", s.courant_max);
+  g.Number("courant_max_time", s.courant_max_time);
   g.Number("inflow", s.inflow);
   g.Number("outflow", s.outflow);
   json->Object("fluid", g);

@@ -98,7 +98,7 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
         fprintf(m->csv,
                 ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
                 "outlet_removed,rebuilds");
-      if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
+      if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,gas_courant,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
       for (const std::string &name : m->extra_columns) fprintf(m->csv, ",%s", name.c_str());
       fprintf(m->csv, "\n");
     }
@@ -126,9 +126,9 @@ PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
               (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
               (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
     if (m->fluid && fluid)
-      fprintf(m->csv, ",%.6e,%.6e,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed, (int)fluid->ksp_its,
-              (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div, (double)fluid->rhs_scale, (double)fluid->inflow,
-              (double)fluid->outflow);
+      fprintf(m->csv, ",%.6e,%.6e,%.4f,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed,
+              (double)fluid->courant, (int)fluid->ksp_its, (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div,
+              (double)fluid->rhs_scale, (double)fluid->inflow, (double)fluid->outflow);
     if (extra)
       for (PetscReal v : *extra) fprintf(m->csv, ",%.12e", (double)v);
     fprintf(m->csv, "\n");

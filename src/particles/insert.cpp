@@ -75,7 +75,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
 {
   const int  dim  = (int)dom.dim;
   InsertType type = INSERT_LATTICE;
-  // Defaults: the default scene's 4000 particles on a loose jittered lattice.
+  // Defaults (no scene options): 4000 particles on a loose jittered lattice.
   PetscInt               count = 4000, seed = 1;
   PetscReal              bed_height = 0.0, packing = 0.6, spacing = 1.05, jitter = 0.5, vel_random = 0.0;
   PetscReal              region[6]   = {dom.lo[0], dom.hi[0], dom.lo[1], dom.hi[1], dom.lo[2], dom.hi[2]};
