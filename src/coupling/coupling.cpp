@@ -168,6 +168,7 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
   PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
   PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
   for (PetscInt p = 0; p < n; ++p) {
+    if (a[p] == 0) continue; // not linearised yet (just inserted): no drag, and its cell is not set
     // the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the
     // gas step used (the particle may have crossed into another cell since)
     const PetscInt cell[3] = {(PetscInt)(cells[p] % c->n[0]), (PetscInt)((cells[p] / c->n[0]) % c->n[1]),
