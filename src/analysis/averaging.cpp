@@ -303,7 +303,10 @@ PetscErrorCode BedAveragesSample(BedAverages *a)
   std::vector<PetscReal> row((std::size_t)a->columns(), 0.0);
   row[SERIES_TIME]   = sim->time;
   row[SERIES_CUTOFF] = kernels::cutoff_bed_height(a->grid, layers, a->cutoff);
-  if (sim->fluid) {
+  if (sim->fluid && FluidGetStats(sim->fluid).steps == 0) {
+    // before the first gas step the gas holds its initial fields, not the particles' void fraction: no value
+    for (PetscInt c = SERIES_DP; c < a->columns(); ++c) row[(std::size_t)c] = NAN;
+  } else if (sim->fluid) {
     std::vector<PetscReal> p;
     PetscCall(GasPressureProfile(sim->fluid, sim->domain, sim->grids.fluid, &p));
     row[SERIES_DP] = kernels::pressure_drop(a->fgrid, p, a->p_low, a->p_high);
@@ -480,8 +483,11 @@ PetscErrorCode Measure(BedAverages *a, Gathered *out)
     // jets: the mean of the per-jet means over the jets that shed bubbles (seed ch. 4 averages its jets)
     double sum_mean = 0, sum_std = 0;
     for (std::size_t q = 0; q < a->jets.size(); ++q) {
-      std::vector<double> hs;
-      for (PetscInt k = 0; k < a->rows(); ++k) hs.push_back(a->series[(std::size_t)(k * a->columns() + SERIES_JET0) + q]);
+      std::vector<double> hs; // the samples with a value, in time order
+      for (PetscInt k = 0; k < a->rows(); ++k) {
+        const double h = a->series[(std::size_t)(k * a->columns() + SERIES_JET0) + q];
+        if (std::isfinite(h)) hs.push_back(h);
+      }
       const kernels::JetHeightSeries js = kernels::jet_height_series(hs, a->crit);
       out->jet_mean.push_back(js.mean_height);
       out->jet_std.push_back(js.std_dev);
@@ -497,10 +503,13 @@ PetscErrorCode Measure(BedAverages *a, Gathered *out)
       r.jet_height     = sum_mean / r.jets_detaching;
       r.jet_height_std = sum_std / r.jets_detaching;
     }
-    if (a->sim->fluid && a->rows()) {
-      double s = 0;
-      for (PetscInt k = 0; k < a->rows(); ++k) s += a->series[(std::size_t)(k * a->columns() + SERIES_DP)];
-      r.pressure_drop = s / (double)a->rows();
+    if (a->sim->fluid) {
+      double s = 0, n = 0;
+      for (PetscInt k = 0; k < a->rows(); ++k) {
+        const double dp = a->series[(std::size_t)(k * a->columns() + SERIES_DP)];
+        if (std::isfinite(dp)) s += dp, n += 1;
+      }
+      r.pressure_drop = n > 0 ? s / n : 0.0;
     }
   }
   PetscCall(VecScatterDestroy(&sc));
@@ -618,10 +627,11 @@ PetscErrorCode BedAveragesWrite(BedAverages *a)
                          "instantaneous expanded bed height by the solid-fraction cut-off (-average_cutoff)"));
     if (sim->fluid)
       PetscCall(WriteArray(viewer, a->comm, "/series", "pressure_drop", 1, ns, col[SERIES_DP].data(), "Pa",
-                           "gas pressure drop between -average_pressure_heights (cross-section averages)"));
+                           "gas pressure drop between -average_pressure_heights (cross-section averages); NaN before the first gas step"));
     if (nj) {
-      PetscCall(WriteArray(viewer, a->comm, "/series", "jet_height", nj, ns * nj, jets.data(), "m",
-                           "height of each jet's high-voidage region connected to its inlet (rows: samples, columns: jets)"));
+      PetscCall(WriteArray(
+        viewer, a->comm, "/series", "jet_height", nj, ns * nj, jets.data(), "m",
+        "height of each jet's high-voidage region connected to its inlet (rows: samples, columns: jets); NaN before the first gas step"));
       PetscCall(WriteArray(viewer, a->comm, "/jets", "slots", 2, rank ? 0 : 2 * nj, slots.data(), "m", "x range of each inlet slit"));
       PetscCall(WriteArray(viewer, a->comm, "/jets", "penetration_height", 1, rank ? 0 : nj, g.jet_mean.data(), "m",
                            "mean height before bubble detachment per jet (0: none detached)"));
