@@ -342,10 +342,10 @@ PetscErrorCode BedAveragesStep(BedAverages *a)
 
 namespace {
 
-// A rank-0 array as a dataset of n / bs rows of bs values (one dimension when bs is 1), with its units and
-// description. Other ranks pass n = 0. Nothing is written for an empty array.
+// A rank-0 array as a dataset of n / bs rows of bs values (one dimension when bs is 1, unless `table`), with its
+// units and description. Other ranks pass n = 0. Nothing is written for an empty array.
 PetscErrorCode WriteArray(PetscViewer viewer, MPI_Comm comm, const char *group, const char *name, PetscInt bs, PetscInt n,
-                          const double *data, const char *units, const char *description)
+                          const double *data, const char *units, const char *description, PetscBool table = PETSC_FALSE)
 {
   Vec      v;
   PetscInt N;
@@ -357,7 +357,9 @@ PetscErrorCode WriteArray(PetscViewer viewer, MPI_Comm comm, const char *group, 
     const std::string path = std::string(group) + "/" + name;
     PetscCall(PetscObjectSetName((PetscObject)v, name));
     PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+    PetscCall(PetscViewerHDF5SetBaseDimension2(viewer, table));
     PetscCall(VecView(v, viewer));
+    PetscCall(PetscViewerHDF5SetBaseDimension2(viewer, PETSC_FALSE));
     PetscCall(PetscViewerHDF5PopGroup(viewer));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, path.c_str(), "units", PETSC_STRING, units));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, path.c_str(), "description", PETSC_STRING, description));
@@ -595,15 +597,16 @@ PetscErrorCode BedAveragesWrite(BedAverages *a)
                        "centre height of the particle-grid layer holding each requested height (the profile's layer)"));
   if (nh) PetscCall(WriteArray(viewer, a->comm, "/profiles", "x", 1, n0 * nx, g.x.data(), "m", "x of the cell centres"));
   PetscCall(WriteArray(viewer, a->comm, "/profiles", "solid_fraction", nx, n0 * nh * nx, g.sf.data(), "1",
-                       "time-averaged solid fraction per height (rows) and column (mean over z)"));
+                       "time-averaged solid fraction per height (rows) and column (mean over z)", PETSC_TRUE));
   PetscCall(WriteArray(viewer, a->comm, "/profiles", "velocity_y", nx, n0 * nh * nx, g.vy.data(), "m/s",
-                       "vertical particle velocity (eq. 4.3 over the window) per height and column (mean over z)"));
+                       "vertical particle velocity (eq. 4.3 over the window) per height and column (mean over z)", PETSC_TRUE));
   PetscCall(WriteArray(viewer, a->comm, "/profiles", "granular_temperature", nx, n0 * nh * nx, g.theta.data(), "m^2/s^2",
-                       "granular temperature (eq. 3.4) per height and column (mean over z)"));
+                       "granular temperature (eq. 3.4) per height and column (mean over z)", PETSC_TRUE));
   PetscCall(WriteArray(viewer, a->comm, "/profiles", "solid_flux_x", nx, n0 * nh * nx, g.flux_x.data(), "m/s",
-                       "horizontal solid volume flux <eps_s v_x> per height and column (mean over z)"));
+                       "horizontal solid volume flux <eps_s v_x> per height and column (mean over z)", PETSC_TRUE));
   PetscCall(WriteArray(viewer, a->comm, "/profiles", "mass_flow_x", nx, n0 * nh * nx, g.mass_flow.data(), "kg/s",
-                       "horizontal solid mass flow rho_p eps_s A_x v_x (eq. 3.5) per height and column, summed over the depth"));
+                       "horizontal solid mass flow rho_p eps_s A_x v_x (eq. 3.5) per height and column, summed over the depth",
+                       PETSC_TRUE));
   PetscCall(WriteArray(viewer, a->comm, "/cross_section", "height", 1, n0 * ny, g.cs_height.data(), "m",
                        "centre height of each particle-grid layer above the distributor"));
   PetscCall(WriteArray(viewer, a->comm, "/cross_section", "solid_fraction", 1, n0 * ny, g.cs_sf.data(), "1",
@@ -631,7 +634,8 @@ PetscErrorCode BedAveragesWrite(BedAverages *a)
     if (nj) {
       PetscCall(WriteArray(
         viewer, a->comm, "/series", "jet_height", nj, ns * nj, jets.data(), "m",
-        "height of each jet's high-voidage region connected to its inlet (rows: samples, columns: jets); NaN before the first gas step"));
+        "height of each jet's high-voidage region connected to its inlet (rows: samples, columns: jets); NaN before the first gas step",
+        PETSC_TRUE));
       PetscCall(WriteArray(viewer, a->comm, "/jets", "slots", 2, rank ? 0 : 2 * nj, slots.data(), "m", "x range of each inlet slit"));
       PetscCall(WriteArray(viewer, a->comm, "/jets", "penetration_height", 1, rank ? 0 : nj, g.jet_mean.data(), "m",
                            "mean height before bubble detachment per jet (0: none detached)"));
