@@ -103,8 +103,8 @@ PetscReal StepLength(const Simulation *sim)
 
 PetscErrorCode SetFromOptions(BedAverages *a, PetscBool *on)
 {
-  const Domain &dom = a->sim->domain;
-  PetscReal     h[64], ph[2] = {0.0, dom.len[1]};
+  const Domain &dom   = a->sim->domain;
+  PetscReal     h[64] = {0}, ph[2] = {0.0, dom.len[1]};
   PetscInt      nh = 64, nph = 2;
   PetscBool     enable   = PETSC_FALSE, set_enable, set_start, set_h, set_drop;
   PetscReal     min_drop = 2.0 * a->sim->grids.fluid.h[1];
