@@ -1,6 +1,7 @@
 """Shared reading and drawing helpers of the plot_*.py scripts: a run's analysis.h5 (time averages on the particle
 grid, docs/analysis.md), its snapshot_NNNNN.h5 files (/particles, /fluid) and monitor.csv. matplotlib (Agg), h5py
 and numpy only."""
+import argparse
 import glob
 import os
 import sys
@@ -19,6 +20,17 @@ MM = 1e3  # axes in mm
 def die(message):
     print("error: " + message, file=sys.stderr)
     sys.exit(2)
+
+
+def parser(doc, single_run=True):
+    """The command line of a plot script: its docstring as help; a run directory and an output PNG unless
+    single_run is False."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0], epilog="example:" + doc.split("\n\n", 1)[1],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    if single_run:
+        ap.add_argument("run", help="run directory (fluidbed -output_dir)")
+        ap.add_argument("output", help="PNG file to write")
+    return ap
 
 
 def analysis_path(run):

@@ -3,7 +3,6 @@
 convective power (eq. 3.8) and diffusive power (eq. 3.9), from each run's analysis.h5.
 
     scripts/plot_bars.py output/jet1 output/jet3 output/jet5 -o bars.png [--labels "1 jet,3 jets,5 jets"]"""
-import argparse
 import os
 
 import fbplot as fp
@@ -12,7 +11,7 @@ import numpy as np
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = fp.parser(__doc__, single_run=False)
     ap.add_argument("runs", nargs="+", help="run directories (each holds analysis.h5)")
     ap.add_argument("-o", "--output", required=True, help="PNG file to write")
     ap.add_argument("--labels", help="comma-separated bar labels (default: the directory names)")

@@ -4,7 +4,6 @@
 -average_pressure_heights), each where present.
 
     scripts/plot_pressure.py output/run pressure.png"""
-import argparse
 import os
 
 import fbplot as fp
@@ -13,9 +12,7 @@ import numpy as np
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("run", help="run directory (holds monitor.csv and/or analysis.h5)")
-    ap.add_argument("output", help="PNG file to write")
+    ap = fp.parser(__doc__)
     args = ap.parse_args()
 
     series = []  # (label, t, p)

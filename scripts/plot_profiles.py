@@ -5,7 +5,6 @@ analysis.h5 (-average_heights); --heights takes other heights from the averaged 
 holding each, averaged over the depth); without either, a quarter, half and three quarters of the expanded bed.
 
     scripts/plot_profiles.py output/run profiles.png [--heights 0.01,0.03,0.06]"""
-import argparse
 
 import fbplot as fp
 import matplotlib.pyplot as plt
@@ -13,9 +12,7 @@ import numpy as np
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("run", help="run directory (holds analysis.h5)")
-    ap.add_argument("output", help="PNG file to write")
+    ap = fp.parser(__doc__)
     ap.add_argument("--heights", help="comma-separated heights above the distributor in m (default: those of -average_heights)")
     args = ap.parse_args()
 

@@ -4,7 +4,6 @@ time-averaged solid fraction; cells whose mean solid fraction is below --min-sol
 fields are averaged over the depth.
 
     scripts/plot_velocity.py output/run velocity.png"""
-import argparse
 
 import fbplot as fp
 import matplotlib.pyplot as plt
@@ -12,9 +11,7 @@ import numpy as np
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("run", help="run directory (holds analysis.h5)")
-    ap.add_argument("output", help="PNG file to write")
+    ap = fp.parser(__doc__)
     ap.add_argument("--min-solid-fraction", type=float, default=0.01, help="no arrow below this mean solid fraction (default 0.01)")
     args = ap.parse_args()
 

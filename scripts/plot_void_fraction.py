@@ -4,16 +4,13 @@ beside one snapshot's (the gas's void fraction when the gas is on, otherwise the
 particle grid). 3D fields are averaged over the depth.
 
     scripts/plot_void_fraction.py output/run void.png [--snapshot N]"""
-import argparse
 
 import fbplot as fp
 import matplotlib.pyplot as plt
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("run", help="run directory (holds analysis.h5 and snapshot_NNNNN.h5)")
-    ap.add_argument("output", help="PNG file to write")
+    ap = fp.parser(__doc__)
     ap.add_argument("--snapshot", type=int, default=-1, help="snapshot number (default: the last)")
     ap.add_argument("--vmin", type=float, default=0.3, help="lower end of the colour scale (default 0.3)")
     args = ap.parse_args()

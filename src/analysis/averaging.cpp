@@ -852,15 +852,8 @@ PetscErrorCode BedAveragesDestroy(BedAverages **avg)
   if (!*avg) PetscFunctionReturn(0);
   BedAverages *a = *avg;
   PetscCall(VecScatterDestroy(&a->eps_scatter));
-  PetscCall(VecDestroy(&a->eps_zero));
-  PetscCall(VecDestroy(&a->eps_nat));
-  PetscCall(VecDestroy(&a->acc));
-  PetscCall(VecDestroy(&a->sums));
-  PetscCall(VecDestroy(&a->sums_loc));
-  PetscCall(DMDestroy(&a->da_vector));
-  PetscCall(DMDestroy(&a->da_scalar));
-  PetscCall(DMDestroy(&a->da_acc));
-  PetscCall(DMDestroy(&a->da_sums));
+  for (Vec *v : {&a->eps_zero, &a->eps_nat, &a->acc, &a->sums, &a->sums_loc}) PetscCall(VecDestroy(v));
+  for (DM *dm : {&a->da_vector, &a->da_scalar, &a->da_acc, &a->da_sums}) PetscCall(DMDestroy(dm));
   delete a;
   *avg = nullptr;
   PetscFunctionReturn(0);

@@ -18,12 +18,4 @@ cases = [
     (["-average_temperature_min_count", "1"], ["-average_temperature_min_count", "out of range", "[2, 1000000]"]),
     (["-average_output_interval", "-1"], ["-average_output_interval", "out of range"]),
 ]
-for nprocs in (1, 2):
-    for args, words in cases:
-        out, p = t.run(None, args=["-average"] + args + ["-t_final", "0"], nprocs=nprocs, outdir="avg_bad_input", expect_fail=True, timeout=60)
-        text = p.stdout + p.stderr
-        crashed = any(s in text for s in ("Segmentation", "signal", "core dumped", "Caught signal"))
-        missing = [w for w in words if w not in text]
-        first = next((line for line in text.splitlines() if "error" in line.lower()), "(no error line)")
-        t.check(p.returncode != 0 and not crashed and not missing,
-                "%d rank(s) %s: exit %d, %s%s" % (nprocs, " ".join(args), p.returncode, first.strip()[:150], " MISSING %s" % missing if missing else ""))
+t.check_bad_input(cases, common=["-average"], outdir="avg_bad_input")
