@@ -52,7 +52,7 @@ struct Simulation {
   Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr; // particles and gas both on
   GasProbes       probes;
-  BedAverages    *averages = nullptr; // -average: time averages and the bed measures (analysis.h5)
+  BedAverages    *averages   = nullptr; // -average: time averages and the bed measures (analysis.h5)
   PetscInt64      step       = 0;
   PetscReal       time       = 0.0;
   PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)
