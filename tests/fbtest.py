@@ -62,3 +62,17 @@ def check(condition, message):
 
 def rel(a, b):
     return abs(a - b) / abs(b)
+
+
+def check_bad_input(cases, common=(), outdir="bad_input", ranks=(1, 2)):
+    """Runs each (args, words) case with the common options on every rank count and checks a clean failure: nonzero
+    exit, no crash, and every word in the output (the option's name, its range)."""
+    for nprocs in ranks:
+        for args, words in cases:
+            _, p = run(None, args=list(common) + list(args) + ["-t_final", "0"], nprocs=nprocs, outdir=outdir, expect_fail=True, timeout=60)
+            text = p.stdout + p.stderr
+            crashed = any(s in text for s in ("Segmentation", "signal", "core dumped", "Caught signal"))
+            missing = [w for w in words if w not in text]
+            first = next((line for line in text.splitlines() if "error" in line.lower()), "(no error line)")
+            check(p.returncode != 0 and not crashed and not missing,
+                  "%d rank(s) %s: exit %d, %s%s" % (nprocs, " ".join(args), p.returncode, first.strip()[:150], " MISSING %s" % missing if missing else ""))

@@ -11,6 +11,9 @@
 
 #include <petscdmda.h>
 
+#include <array>
+#include <vector>
+
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/phases.hpp"
@@ -73,6 +76,8 @@ PetscErrorCode FluidReadHDF5(Fluid *fluid, PetscViewer viewer);
 // Gas density (kg/m^3) and viscosity (Pa s), for the drag; whether the momentum equation is the seed's Model B.
 PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscReal *mu);
 PetscBool      FluidIsModelB(const Fluid *fluid);
+// The inlet slits (-inlet_jets) in the order given, each as the x range [x_lo, x_hi] of its bottom cells (m).
+PetscErrorCode FluidGetJetSlots(const Fluid *fluid, std::vector<std::array<PetscReal, 2>> *slots);
 
 // fluid_cells.csv in natural ordering, written by rank 0: i,j,k,x,y,z,eps,p,u,v,w (cell averages),
 // ufx,ufy,ufz (velocities on the cell's lower x, y, z faces).

@@ -38,6 +38,21 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series);
 
+// XDMF building blocks for cell fields on a uniform grid (ParaView's 2DCoRectMesh / 3DCoRectMesh).
+struct XdmfCellField {
+  std::string name;       // attribute name in ParaView
+  std::string dataset;    // absolute HDF5 path, e.g. "/fluid/pressure", shape (Nz,) Ny, Nx[, components]
+  int         components; // 1 (scalar), 3 (vector) or 2 (2D vector: given as the scalars name_x, name_y)
+};
+// One <Grid> element of n[0] x n[1] (x n[2]) cells of size h from lo, its attributes read from `file`; with a time
+// when `time` is given (an entry of a temporal collection).
+std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], const PetscReal lo[3], const PetscReal h[3],
+                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time);
+// The XDMF document around grid elements: inside a temporal collection of that name, or bare when collection is NULL.
+std::string XdmfDocument(const std::string &grids, const char *collection);
+// Writes text to path on rank 0 (to path.tmp, then renamed).
+PetscErrorCode XdmfWriteFile(MPI_Comm comm, const std::string &path, const std::string &text);
+
 // Atomic file replacement: the caller writes `path + ".tmp"`, then this renames it onto `path` (rank 0, after
 // every rank has closed the file), so an interrupted write never destroys the previous file.
 PetscErrorCode CommitFile(MPI_Comm comm, const std::string &path);

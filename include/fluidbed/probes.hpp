@@ -22,5 +22,8 @@ PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &domain, GasP
 // Column names for monitor.csv: p_y<height in mm, '_' for the decimal point>mm_avg, then p_probe<n>.
 void           GasProbesColumns(const GasProbes &probes, std::vector<std::string> *names);
 PetscErrorCode GasProbesMeasure(GasProbes *probes, Fluid *fluid, const Domain &domain, const FluidGrid &grid);
+// The gas pressure averaged over each horizontal layer of the fluid grid (n_y values at the layer centres, Pa), on
+// every rank.
+PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &domain, const FluidGrid &grid, std::vector<PetscReal> *profile);
 
 } // namespace fluidbed

@@ -3,6 +3,7 @@
 
 #include <petscsys.h>
 
+#include "fluidbed/averaging.hpp"
 #include "fluidbed/coupling.hpp"
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
@@ -51,6 +52,7 @@ struct Simulation {
   Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr; // particles and gas both on
   GasProbes       probes;
+  BedAverages    *averages   = nullptr; // -average: time averages and the bed measures (analysis.h5)
   PetscInt64      step       = 0;
   PetscReal       time       = 0.0;
   PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)

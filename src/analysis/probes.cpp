@@ -51,6 +51,33 @@ void GasProbesColumns(const GasProbes &pr, std::vector<std::string> *names)
   for (std::size_t k = 0; k < pr.points.size(); ++k) names->push_back("p_probe" + std::to_string(k));
 }
 
+PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGrid &grid, std::vector<PetscReal> *profile)
+{
+  DM                 da;
+  Vec                p;
+  const PetscScalar *a;
+  PetscInt           xs[3], xm[3];
+  MPI_Comm           comm;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidGetCellDMs(fluid, &da, NULL));
+  PetscCall(FluidGetPressure(fluid, &p));
+  PetscCall(PetscObjectGetComm((PetscObject)da, &comm));
+  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
+  if (dom.dim == 2) xs[2] = 0, xm[2] = 1;
+  std::vector<PetscReal> loc((std::size_t)grid.n[1], 0.0);
+  PetscCall(VecGetArrayRead(p, &a));
+  for (PetscInt k = 0; k < xm[2]; ++k)
+    for (PetscInt j = 0; j < xm[1]; ++j)
+      for (PetscInt i = 0; i < xm[0]; ++i) loc[(std::size_t)(xs[1] + j)] += a[(k * xm[1] + j) * xm[0] + i];
+  PetscCall(VecRestoreArrayRead(p, &a));
+  profile->assign((std::size_t)grid.n[1], 0.0);
+  PetscCallMPI(MPI_Allreduce(loc.data(), profile->data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, comm));
+  const PetscReal per_layer = (PetscReal)(grid.n[0] * (dom.dim == 3 ? grid.n[2] : 1));
+  for (auto &v : *profile) v /= per_layer;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, const FluidGrid &grid)
 {
   DM                 da;
@@ -71,13 +98,8 @@ PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, 
   auto at = [&](PetscInt i, PetscInt j, PetscInt k) { return a[((k - xs[2]) * xm[1] + (j - xs[1])) * xm[0] + (i - xs[0])]; };
 
   // cross-section-averaged profile, interpolated between layer centres
-  std::vector<PetscReal> loc((std::size_t)grid.n[1], 0.0), prof((std::size_t)grid.n[1]);
-  for (PetscInt k = xs[2]; k < xs[2] + xm[2]; ++k)
-    for (PetscInt j = xs[1]; j < xs[1] + xm[1]; ++j)
-      for (PetscInt i = xs[0]; i < xs[0] + xm[0]; ++i) loc[(std::size_t)j] += at(i, j, k);
-  PetscCallMPI(MPI_Allreduce(loc.data(), prof.data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, comm));
-  const PetscReal per_layer = (PetscReal)(grid.n[0] * (dim == 3 ? grid.n[2] : 1));
-  for (auto &v : prof) v /= per_layer;
+  std::vector<PetscReal> prof;
+  PetscCall(GasPressureProfile(fluid, dom, grid, &prof));
   const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0],
                                                  (int)grid.n[1], (int)grid.n[2]);
   for (std::size_t k = 0; k < pr->heights.size(); ++k) pr->values[k] = kernels::interpolate_profile(g, prof, pr->heights[k] - dom.lo[1]);

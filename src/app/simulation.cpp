@@ -67,6 +67,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
     json.Number("contacts_per_particle", tot.contacts_per_particle);
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
+  PetscCall(BedAveragesAddSummary(sim->averages, &json));
   json.Number("wall_time_setup", sim->wall_setup);
   json.Number("wall_time_run", sim->wall_run);
   for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
@@ -126,6 +127,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(GasProbesSetFromOptions(sim->comm, sim->domain, &sim->probes));
     GasProbesColumns(sim->probes, &sim->monitor.extra_columns);
   }
+  PetscCall(BedAveragesCreate(sim, &sim->averages));
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
   if (restart) PetscCall(SimulationReadCheckpoint(sim));
   else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
@@ -295,6 +297,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
   if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
     PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
+  PetscCall(BedAveragesWrite(sim->averages));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
   PetscMPIInt size;
@@ -322,6 +325,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscFunctionBeginUser;
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
+  PetscCall(BedAveragesDestroy(&(*sim)->averages));
   PetscCall(CouplingDestroy(&(*sim)->coupling));
   PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));

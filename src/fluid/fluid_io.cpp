@@ -71,6 +71,14 @@ PetscBool FluidIsModelB(const Fluid *f)
   return f->model == FLUID_MODEL_B ? PETSC_TRUE : PETSC_FALSE;
 }
 
+PetscErrorCode FluidGetJetSlots(const Fluid *f, std::vector<std::array<PetscReal, 2>> *slots)
+{
+  PetscFunctionBeginUser;
+  slots->clear();
+  for (const kernels::JetCells &j : f->jets) slots->push_back({f->dom->lo[0] + j.first * f->h[0], f->dom->lo[0] + j.last * f->h[0]});
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidReadHDF5(Fluid *f, PetscViewer viewer)
 {
   PetscReal steps;

@@ -115,6 +115,7 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
   if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
   if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
   if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
+  PetscCall(BedAveragesWriteHDF5(sim->averages, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscCall(CommitFile(sim->comm, path));
   PetscFunctionReturn(0);
@@ -184,6 +185,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCall(FluidReadHDF5(sim->fluid, viewer));
   }
   if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
+  PetscCall(BedAveragesReadHDF5(sim->averages, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
@@ -194,6 +196,7 @@ PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
   const PetscReal dt = sim->dem ? sim->dem->par.dt : FluidGetStats(sim->fluid).dt, eps = 0.5 * dt;
 
   PetscFunctionBeginUser;
+  PetscCall(BedAveragesStep(sim->averages)); // before this step's checkpoint, which then holds its sample
   if (o.interval > 0 && sim->time >= o.next - eps) {
     PetscCall(SimulationWriteSnapshot(sim));
     while (o.next <= sim->time + eps) o.next += o.interval;

@@ -190,6 +190,70 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
   PetscFunctionReturn(0);
 }
 
+std::string XdmfDocument(const std::string &grids, const char *collection)
+{
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n";
+  if (collection) x << "  <Grid Name=\"" << collection << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  x << grids;
+  if (collection) x << "  </Grid>\n";
+  x << " </Domain>\n</Xdmf>\n";
+  return x.str();
+}
+
+PetscErrorCode XdmfWriteFile(MPI_Comm comm, const std::string &path, const std::string &text)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank) PetscFunctionReturn(0);
+  std::ofstream(path + ".tmp") << text;
+  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  PetscFunctionReturn(0);
+}
+
+std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], const PetscReal lo[3], const PetscReal h[3],
+                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time)
+{
+  std::ostringstream cells, nodes, origin, spacing;
+  // XDMF orders axes slowest first: (z,) y, x
+  for (int a = (int)dim - 1; a >= 0; --a) {
+    cells << n[a] << (a ? " " : "");
+    nodes << n[a] + 1 << (a ? " " : "");
+    origin << lo[a] << (a ? " " : "");
+    spacing << h[a] << (a ? " " : "");
+  }
+  auto heavy = [&](const std::string &dataset, int comps) {
+    std::ostringstream d;
+    d << "<DataItem Dimensions=\"" << cells.str() << (comps > 1 ? " " + std::to_string(comps) : "")
+      << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << file << ":" << dataset << "</DataItem>";
+    return d.str();
+  };
+  std::ostringstream x;
+  x << "   <Grid Name=\"" << name << "\" GridType=\"Uniform\">\n";
+  if (time) x << "    <Time Value=\"" << *time << "\"/>\n";
+  x << "    <Topology TopologyType=\"" << dim << "DCoRectMesh\" Dimensions=\"" << nodes.str() << "\"/>\n";
+  x << "    <Geometry GeometryType=\"" << (dim == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") << "\">\n";
+  x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << origin.str() << "</DataItem>\n";
+  x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << spacing.str() << "</DataItem>\n    </Geometry>\n";
+  for (const XdmfCellField &f : fields) {
+    if (f.components == 1)
+      x << "    <Attribute Name=\"" << f.name << "\" AttributeType=\"Scalar\" Center=\"Cell\">" << heavy(f.dataset, 1) << "</Attribute>\n";
+    else if (f.components == 3)
+      x << "    <Attribute Name=\"" << f.name << "\" AttributeType=\"Vector\" Center=\"Cell\">" << heavy(f.dataset, 3) << "</Attribute>\n";
+    else
+      for (int c = 0; c < f.components; ++c) // XDMF vectors have three components: give the 2D components as scalars
+        x << "    <Attribute Name=\"" << f.name << "_"
+          << "xyz"[c] << "\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" Dimensions=\"" << cells.str()
+          << " 1\"><DataItem Dimensions=\"3 " << dim + 1 << "\" Format=\"XML\">" << (dim == 3 ? "0 0 0 " : "0 0 ") << c
+          << (dim == 3 ? " 1 1 1 1 " : " 1 1 1 ") << cells.str() << " 1</DataItem>" << heavy(f.dataset, f.components)
+          << "</DataItem></Attribute>\n";
+  }
+  x << "   </Grid>\n";
+  return x.str();
+}
+
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series)
 {
   PetscMPIInt rank;
@@ -198,9 +262,7 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
   std::ostringstream x;
-  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"particles\" GridType=\"Collection\" "
-       "CollectionType=\"Temporal\">\n";
-  auto item = [&](const SnapshotRecord &s, const char *name, int comps) {
+  auto               item = [&](const SnapshotRecord &s, const char *name, int comps) {
     std::ostringstream d;
     d << "<DataItem Dimensions=\"" << s.particles;
     if (comps > 1) d << " " << comps;
@@ -218,10 +280,7 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
       x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Scalar\" Center=\"Node\">" << item(s, v, 1) << "</Attribute>\n";
     x << "   </Grid>\n";
   }
-  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  const std::string path = dir + "/particles.xmf";
-  std::ofstream(path + ".tmp") << x.str();
-  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  PetscCall(XdmfWriteFile(comm, dir + "/particles.xmf", XdmfDocument(x.str(), "particles")));
   PetscFunctionReturn(0);
 }
 
@@ -233,46 +292,11 @@ PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domai
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
-  const int          dim = (int)dom.dim;
-  std::ostringstream cells, nodes, origin, spacing;
-  // XDMF orders axes slowest first: (z,) y, x
-  for (int a = dim - 1; a >= 0; --a) {
-    cells << grid.n[a] << (a ? " " : "");
-    nodes << grid.n[a] + 1 << (a ? " " : "");
-    origin << dom.lo[a] << (a ? " " : "");
-    spacing << grid.h[a] << (a ? " " : "");
-  }
-  std::ostringstream x;
-  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"gas\" GridType=\"Collection\" "
-       "CollectionType=\"Temporal\">\n";
-  for (const SnapshotRecord &s : series) {
-    auto heavy = [&](const char *name, int comps) {
-      std::ostringstream d;
-      d << "<DataItem Dimensions=\"" << cells.str() << (comps > 1 ? " " + std::to_string(comps) : "")
-        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/fluid/" << name << "</DataItem>";
-      return d.str();
-    };
-    x << "   <Grid Name=\"gas\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n";
-    x << "    <Topology TopologyType=\"" << dim << "DCoRectMesh\" Dimensions=\"" << nodes.str() << "\"/>\n";
-    x << "    <Geometry GeometryType=\"" << (dim == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") << "\">\n";
-    x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << origin.str() << "</DataItem>\n";
-    x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << spacing.str() << "</DataItem>\n    </Geometry>\n";
-    for (const char *name : {"pressure", "void_fraction"})
-      x << "    <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Cell\">" << heavy(name, 1) << "</Attribute>\n";
-    if (dim == 3)
-      x << "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Cell\">" << heavy("velocity", 3) << "</Attribute>\n";
-    else
-      for (int c = 0; c < 2; ++c) // XDMF vectors have three components: give the 2D components as scalars
-        x << "    <Attribute Name=\"velocity_"
-          << "xy"[c] << "\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" Dimensions=\"" << cells.str()
-          << " 1\"><DataItem Dimensions=\"3 3\" Format=\"XML\">0 0 " << c << " 1 1 1 " << cells.str() << " 1</DataItem>"
-          << heavy("velocity", 2) << "</DataItem></Attribute>\n";
-    x << "   </Grid>\n";
-  }
-  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  const std::string path = dir + "/fluid.xmf";
-  std::ofstream(path + ".tmp") << x.str();
-  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  const std::vector<XdmfCellField> fields = {
+    {"pressure", "/fluid/pressure", 1}, {"void_fraction", "/fluid/void_fraction", 1}, {"velocity", "/fluid/velocity", (int)dom.dim}};
+  std::string grids;
+  for (const SnapshotRecord &s : series) grids += XdmfCellGrid("gas", dom.dim, grid.n, dom.lo, grid.h, s.file, fields, &s.time);
+  PetscCall(XdmfWriteFile(comm, dir + "/fluid.xmf", XdmfDocument(grids, "gas")));
   PetscFunctionReturn(0);
 }
 

@@ -20,12 +20,4 @@ cases = [
     (["-particle_diameter_min", "2e-3", "-particle_diameter_max", "1e-3"], ["-particle_diameter_max", "-particle_diameter_min"]),
     (["-insert_type", "file", "-insert_file", "/nonexistent.csv"], ["-insert_file", "/nonexistent.csv"]),
 ]
-for nprocs in (1, 2):
-    for args, words in cases:
-        out, p = t.run(None, args=args + ["-t_final", "0"], nprocs=nprocs, outdir="bad_input", expect_fail=True, timeout=60)
-        text = p.stdout + p.stderr
-        crashed = any(s in text for s in ("Segmentation", "signal", "core dumped", "Caught signal"))
-        missing = [w for w in words if w not in text]
-        first = next((line for line in text.splitlines() if "error" in line.lower()), "(no error line)")
-        t.check(p.returncode != 0 and not crashed and not missing,
-                "%d rank(s) %s: exit %d, %s%s" % (nprocs, " ".join(args), p.returncode, first.strip()[:150], " MISSING %s" % missing if missing else ""))
+t.check_bad_input(cases)
