@@ -119,6 +119,8 @@ PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm);
 PetscErrorCode DemSetUp(Dem *dem, DM swarm, PetscBool restart);
 // One velocity-Verlet step of length par.dt.
 PetscErrorCode DemStep(Dem *dem);
+// Migration, contact-history sync, ghosts and neighbour lists now (as at a restart); the forces are unchanged.
+PetscErrorCode DemRebuild(Dem *dem);
 PetscErrorCode DemDestroy(Dem **dem);
 
 // Pieces of the step (src/particles, src/contact), exposed for tests and the coupled solver.

@@ -59,6 +59,14 @@ struct Simulation {
   double          wall_setup = 0.0, wall_run = 0.0;
 };
 
+// The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step). The
+// last step of a run and the steps that write checkpoints follow this one rule, so that a run that stops at t
+// and a longer run that writes a checkpoint at t do so at the same step.
+inline PetscInt64 StepAtTime(PetscReal t, PetscReal dt)
+{
+  return (PetscInt64)PetscCeilReal(t / dt - 0.5 - 1e-9);
+}
+
 PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);
 // Reads every option, creates grids and particles, and prepares the first step.
 PetscErrorCode SimulationSetUp(Simulation *sim);

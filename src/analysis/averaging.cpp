@@ -106,8 +106,9 @@ PetscErrorCode SetFromOptions(BedAverages *a, PetscBool *on)
   const Domain &dom   = a->sim->domain;
   PetscReal     h[64] = {0}, ph[2] = {0.0, dom.len[1]};
   PetscInt      nh = 64, nph = 2;
-  PetscBool     enable   = PETSC_FALSE, set_enable, set_start, set_h, set_drop;
-  PetscReal     min_drop = 2.0 * a->sim->grids.fluid.h[1];
+  PetscBool     enable = PETSC_FALSE, set_enable, set_start, set_h, set_drop;
+  // two fluid cells, but never more than the box is tall (a pure DEM scene may have a single tall cell)
+  PetscReal min_drop = PetscMin(2.0 * a->sim->grids.fluid.h[1], dom.len[1]);
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(a->comm, "", "Time averages of the bed on the particle grid (analysis.h5, analysis.xmf, summary.json)", "Analysis");

@@ -5,7 +5,9 @@
 
 #include <petscviewerhdf5.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace fluidbed {
 
@@ -38,10 +40,12 @@ struct Coupling {
   DragLaw       drag          = nullptr;
   PetscReal     rho_g = 1.205, mu_g = 1.8e-5;
 
-  DM            da      = nullptr;
-  Vec           deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
-  PetscInt      until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
-  CouplingStats stats;
+  DM                      da      = nullptr;
+  Vec                     deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
+  PetscInt                until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
+  std::vector<PetscInt64> order_cell;    // per particle: its coupling cell (flat index) at the last deposit
+  std::vector<PetscInt>   order;         // the particles by cell, then id: the summation order of the deposits
+  CouplingStats           stats;
 };
 
 namespace {
@@ -106,18 +110,50 @@ void ForOwnedCells(const CellView &v, Fn &&fn)
       for (PetscInt i = v.s[0]; i < v.s[0] + v.m[0]; ++i) fn(i, j, k);
 }
 
-// The coupling cell's void fraction (eq. 5.2-5.3) at the particles' current positions: solid volumes summed with
-// halos added to their owners, then the owned cells' eps, then halos.
-PetscErrorCode DepositVoidFraction(Coupling *c, PetscInt n, const ContactBody *bodies)
+// The particles' coupling cells (flat index) and the order in which their contributions are summed: by cell, then
+// by particle id. Floating-point sums depend on their order, and the swarm's storage order depends on the run's
+// history (sorting, migration, restart); summing in this order makes the cell sums, and so the whole coupled run, a
+// function of the particles' state alone, so that a restart repeats the uninterrupted run bit for bit.
+PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ContactBody *bodies)
+{
+  PetscInt64 *ids;
+
+  PetscFunctionBeginUser;
+  c->order_cell.resize(n);
+  c->order.resize(n);
+  for (PetscInt p = 0; p < n; ++p) {
+    PetscInt cell[3];
+    CellOf(c, bodies[p].x, cell);
+    c->order_cell[p] = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
+    c->order[p]      = p;
+  }
+  PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
+  std::sort(c->order.begin(), c->order.end(), [&](PetscInt a, PetscInt b) {
+    return c->order_cell[a] != c->order_cell[b] ? c->order_cell[a] < c->order_cell[b] : ids[a] < ids[b];
+  });
+  PetscCall(DMSwarmRestoreField(swarm, field::id, NULL, NULL, (void **)&ids));
+  PetscFunctionReturn(0);
+}
+
+inline void CellIjk(const Coupling *c, PetscInt64 flat, PetscInt cell[3])
+{
+  cell[0] = (PetscInt)(flat % c->n[0]);
+  cell[1] = (PetscInt)((flat / c->n[0]) % c->n[1]);
+  cell[2] = (PetscInt)(flat / (c->n[0] * c->n[1]));
+}
+
+// The coupling cell's void fraction (eq. 5.2-5.3) at the particles' current positions: solid volumes summed (in the
+// DepositOrder) with halos added to their owners, then the owned cells' eps, then halos.
+PetscErrorCode DepositVoidFraction(Coupling *c, const ContactBody *bodies)
 {
   CellView dep, d, g;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(c->deposit_loc));
   PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-  for (PetscInt p = 0; p < n; ++p) {
+  for (PetscInt p : c->order) {
     PetscInt cell[3];
-    CellOf(c, bodies[p].x, cell);
+    CellIjk(c, c->order_cell[p], cell);
     PetscCheck(dep.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
     dep(cell[0], cell[1], cell[2], 0) += (4.0 / 3.0) * PETSC_PI * bodies[p].r * bodies[p].r * bodies[p].r;
   }
@@ -171,8 +207,8 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
     if (a[p] == 0) continue; // not linearised yet (just inserted): no drag, and its cell is not set
     // the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the
     // gas step used (the particle may have crossed into another cell since)
-    const PetscInt cell[3] = {(PetscInt)(cells[p] % c->n[0]), (PetscInt)((cells[p] / c->n[0]) % c->n[1]),
-                              (PetscInt)(cells[p] / (c->n[0] * c->n[1]))};
+    PetscInt cell[3];
+    CellIjk(c, cells[p], cell);
     PetscCheck(gas.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
     for (PetscInt d = 0; d < c->dim; ++d) {
       const PetscReal F = a[p] * gas(cell[0], cell[1], cell[2], 2 + d) - b[3 * p + d];
@@ -188,17 +224,18 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
   PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_particles, 3, MPIU_REAL, MPI_SUM, c->comm));
 
   if (c->until_gas <= 1) {
-    PetscCall(DepositVoidFraction(c, n, bodies));
+    PetscCall(DepositOrder(c, swarm, n, bodies));
+    PetscCall(DepositVoidFraction(c, bodies));
     PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
     PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
     PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
     PetscCall(VecZeroEntries(c->deposit_loc));
     PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
     PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
-    for (PetscInt p = 0; p < n; ++p) {
+    for (PetscInt p : c->order) {
       const ContactBody &bp = bodies[p];
       PetscInt           cell[3];
-      CellOf(c, bp.x, cell);
+      CellIjk(c, c->order_cell[p], cell);
       const PetscReal eps = gas(cell[0], cell[1], cell[2], 0);
       Vec3            u;
       for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gas(cell[0], cell[1], cell[2], 2 + d);
@@ -207,7 +244,7 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
         c->drag(kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) / (c->divide_eps ? eps : 1.0);
       const PetscReal Vp = (4.0 / 3.0) * PETSC_PI * bp.r * bp.r * bp.r;
       a[p]               = Vp * K;
-      cells[p]           = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
+      cells[p]           = c->order_cell[p];
       dep(cell[0], cell[1], cell[2], 1) += a[p];
       for (PetscInt d = 0; d < 3; ++d) {
         b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;

@@ -81,7 +81,9 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  if (sim->dem) PetscCall(DemSyncPairHistory(sim->dem)); // both particles of every pair carry the current history
+  // Migration, contact-history sync and neighbour lists now, as a restart does when it loads the checkpoint: both
+  // runs then continue from the same ownership of particles by ranks (the coupling's cell sums depend on it).
+  if (sim->dem) PetscCall(DemRebuild(sim->dem));
   PetscCall(PetscViewerHDF5Open(sim->comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
   PetscCall(WriteCount(viewer, "step", sim->step));
@@ -201,7 +203,9 @@ PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
     PetscCall(SimulationWriteSnapshot(sim));
     while (o.next <= sim->time + eps) o.next += o.interval;
   }
-  if (o.checkpoint_interval > 0 && (sim->time >= o.next_checkpoint - eps || last)) {
+  const PetscBool checkpoint_due = (PetscBool)(o.checkpoint_interval > 0 && (sim->dem ? sim->step >= StepAtTime(o.next_checkpoint, dt)
+                                                                                      : sim->time >= o.next_checkpoint - eps));
+  if (o.checkpoint_interval > 0 && (checkpoint_due || last)) {
     while (o.next_checkpoint <= sim->time + eps) o.next_checkpoint += o.checkpoint_interval;
     PetscCall(SimulationWriteCheckpoint(sim));
   }

@@ -25,6 +25,13 @@ PetscErrorCode Rebuild(Dem *dem)
 
 } // namespace
 
+PetscErrorCode DemRebuild(Dem *dem)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Rebuild(dem));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &pgrid, const ParticleProps &props, PhaseLog *log, Dem **dem)
 {
   Dem *d = new Dem;
