@@ -385,9 +385,12 @@ PetscErrorCode FluidGetCellVelocity(Fluid *f, Vec *velocity)
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
   PetscCall(FieldGet(f->da_c, f->cell_u, PETSC_FALSE, &c));
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    for (int a = 0; a < f->dim; ++a) c(i, j, k, a) = 0.5 * (u(i, j, k, a) + u(i + (a == 0), j + (a == 1), k + (a == 2), a));
-  });
+  {
+    const PetscInt st[3] = {u.stride(0), u.stride(1), u.stride(2)}, dof = u.dof;
+    ForEachOwnedOffset(f, u, c, [&](PetscInt p, PetscInt q) {
+      for (int a = 0; a < f->dim; ++a) c.a[q * c.dof + a] = 0.5 * (u.a[p * dof + a] + u.a[(p + st[a]) * dof + a]);
+    });
+  }
   PetscCall(FieldRestore(f->cell_u, &c));
   PetscCall(FieldRestore(f->u_loc, &u));
   *velocity = f->cell_u;

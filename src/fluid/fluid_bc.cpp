@@ -124,14 +124,17 @@ PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind)
   PetscFunctionBeginUser;
   PetscCall(FieldGet(dm, loc, PETSC_TRUE, &v));
   const bool outlet = kind == 1 && TopIsOutlet(f);
-  if (outlet) PetscCall(FieldGet(f->da_s, f->u_top_loc, PETSC_TRUE, &top));
+  if (outlet) {
+    PetscCall(FieldGet(f->da_s, f->u_top_loc, PETSC_TRUE, &top));
+    PetscCheck(SameLayout(v, top), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
+  }
   for (int b = 0; b < f->dim; ++b) {
     if (f->periodic[b]) continue;
     for (int side = 0; side < 2; ++side) {
       if (side == 0 ? f->xs[b] != 0 : f->xs[b] + f->xm[b] != f->n[b]) continue;
       const int      face   = 2 * b + side;
       const bool     noslip = f->bc[face] == FLUID_BC_NOSLIP;
-      const PetscInt nb     = f->n[b];
+      const PetscInt nb = f->n[b], sb = v.stride(b), dof = v.dof;
       PetscInt       lo[3], hi[3];
       for (int d = 0; d < 3; ++d) {
         lo[d] = v.s[d];
@@ -141,35 +144,30 @@ PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind)
         const PetscInt pos = side ? nb - 1 + g : -g, mirror = side ? nb - g : g - 1;
         lo[b] = pos;
         hi[b] = pos + 1;
-        for (PetscInt k = lo[2]; k < hi[2]; ++k)
-          for (PetscInt j = lo[1]; j < hi[1]; ++j)
-            for (PetscInt i = lo[0]; i < hi[0]; ++i) {
-              PetscInt p[3] = {i, j, k}, q[3] = {i, j, k};
-              q[b] = mirror;
-              if (kind == 0) {
-                v.at(p) = v.at(q);
-                continue;
-              }
-              for (int c = 0; c < f->dim; ++c) {
-                if (c != b) {
-                  v.at(p, c) = noslip ? 2.0 * f->wall_velocity[face][c] - v.at(q, c) : v.at(q, c);
-                  continue;
-                }
-                PetscInt r[3] = {i, j, k}, s[3] = {i, j, k};
-                if (side == 0) { // faces -1, -2: odd reflection about the boundary face 0
-                  r[b]       = 0;
-                  s[b]       = g;
-                  v.at(p, c) = 2.0 * v.at(r, c) - v.at(s, c);
-                } else if (g == 1) { // the boundary face n itself
-                  r[b]       = nb - 1;
-                  v.at(p, c) = (outlet && b == 1) ? top.at(r) : 0.0;
-                } else { // face n + 1
-                  r[b]       = nb;
-                  s[b]       = nb - 1;
-                  v.at(p, c) = 2.0 * v.at(r, c) - v.at(s, c);
-                }
-              }
-            }
+        // offsets from the ghost cell to its mirror (q) and, for the normal velocity, to the faces it is reflected
+        // from: side 0, faces -1, -2: odd reflection about the boundary face 0 (r = 0, s = g); side 1: the boundary
+        // face n itself (g = 1, from r = n - 1: the outlet velocity kept there) and face n + 1 (r = n, s = n - 1)
+        const PetscInt dq = (mirror - pos) * sb, dr = ((side == 0 ? 0 : (g == 1 ? nb - 1 : nb)) - pos) * sb;
+        const PetscInt ds = ((side == 0 ? g : nb - 1) - pos) * sb;
+        // a pass writes the plane pos only and reads other planes: its loops may go in any order
+        if (kind == 0) {
+          ForEachCellInBox(v, lo, hi, [&](PetscInt p) { v.a[p] = v.a[p + dq]; });
+          continue;
+        }
+        for (int c = 0; c < f->dim; ++c) {
+          PetscScalar *x = v.a + c; // x[p * dof]: component c of the cell at offset p
+          if (c != b) {
+            const PetscReal w2 = 2.0 * f->wall_velocity[face][c];
+            if (noslip) ForEachCellInBox(v, lo, hi, [&](PetscInt p) { x[p * dof] = w2 - x[(p + dq) * dof]; });
+            else ForEachCellInBox(v, lo, hi, [&](PetscInt p) { x[p * dof] = x[(p + dq) * dof]; });
+          } else if (side == 0 || g != 1) {
+            ForEachCellInBox(v, lo, hi, [&](PetscInt p) { x[p * dof] = 2.0 * x[(p + dr) * dof] - x[(p + ds) * dof]; });
+          } else if (outlet && b == 1) {
+            ForEachCellInBox(v, lo, hi, [&](PetscInt p) { x[p * dof] = top.a[p + dr]; });
+          } else {
+            ForEachCellInBox(v, lo, hi, [&](PetscInt p) { x[p * dof] = 0.0; });
+          }
+        }
       }
     }
   }

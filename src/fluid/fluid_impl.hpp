@@ -38,6 +38,10 @@ struct FieldView {
     return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
   }
   PetscScalar &at(const PetscInt p[3], PetscInt c = 0) const { return (*this)(p[0], p[1], p[2], c); }
+  // Offset of cell (i, j, k) counted in cells (entry c of it: a[cell * dof + c]), and the offset between neighbours
+  // along direction d: loops over cells step through the array with these instead of recomputing every index.
+  PetscInt cell(PetscInt i, PetscInt j, PetscInt k) const { return ((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0]); }
+  PetscInt stride(int d) const { return d == 0 ? 1 : (d == 1 ? m[0] : m[0] * m[1]); }
 };
 
 struct FluidField {
@@ -109,6 +113,10 @@ struct Fluid {
   KSP          ksp        = nullptr;
   PetscInt     assemblies = 0, since_pc = 0;
 
+  // Scratch arrays on the ghosted cell layout of da_u and da_s (FluidWork): the momentum predictor's face fluxes and
+  // control-volume transport, the pressure matrix's face coefficients. Grows once, then is reused every step.
+  std::vector<PetscReal> work;
+
   FluidStats stats;
 };
 
@@ -119,6 +127,38 @@ inline void ForEachOwnedCell(const Fluid *f, Fn &&fn)
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
     for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) fn(i, j, k);
+}
+
+// The same with the cell's offsets pa and pb in the arrays of views A and B (FieldView::cell), stepped along the rows
+// instead of recomputed: fn(pa, pb).
+template <class Fn>
+inline void ForEachOwnedOffset(const Fluid *f, const FieldView &A, const FieldView &B, Fn &&fn)
+{
+  for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j) {
+      PetscInt pa = A.cell(f->xs[0], j, k), pb = B.cell(f->xs[0], j, k);
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i, ++pa, ++pb) fn(pa, pb);
+    }
+}
+
+// The cells [lo, hi) per direction that this rank owns (k = 0 in 2D).
+inline void OwnedBox(const Fluid *f, PetscInt lo[3], PetscInt hi[3])
+{
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = f->xs[d];
+    hi[d] = f->xs[d] + f->xm[d];
+  }
+}
+
+// Calls fn(p) for every cell of the box [lo, hi) (x fastest), p the cell's offset in v's array (FieldView::cell).
+template <class Fn>
+inline void ForEachCellInBox(const FieldView &v, const PetscInt lo[3], const PetscInt hi[3], Fn &&fn)
+{
+  for (PetscInt k = lo[2]; k < hi[2]; ++k)
+    for (PetscInt j = lo[1]; j < hi[1]; ++j) {
+      PetscInt p = v.cell(lo[0], j, k);
+      for (PetscInt i = lo[0]; i < hi[0]; ++i, ++p) fn(p);
+    }
 }
 
 // fluid_bc.cpp
@@ -150,9 +190,23 @@ inline PetscReal ProjectionCoefficient(PetscReal c0, PetscReal eps_f, PetscReal 
   return beta_f == 0 ? c0 : c0 * eps_f / (eps_f + dt * beta_f / rho);
 }
 
+// Scratch of at least n values (Fluid::work), uninitialised; valid until the next call.
+inline PetscReal *FluidWork(Fluid *f, std::size_t n)
+{
+  if (f->work.size() < n) f->work.resize(n);
+  return f->work.data();
+}
+
 // Views on local arrays.
-PetscErrorCode   FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
-PetscErrorCode   FieldRestore(Vec v, FieldView *view);
+PetscErrorCode FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
+PetscErrorCode FieldRestore(Vec v, FieldView *view);
+// Whether two views address their cells alike (one cell offset serves both), e.g. da_u and da_s local arrays.
+inline bool SameLayout(const FieldView &x, const FieldView &y)
+{
+  for (int d = 0; d < 3; ++d)
+    if (x.s[d] != y.s[d] || x.m[d] != y.m[d]) return false;
+  return true;
+}
 inline PetscReal FaceEps(const FieldView &eps, const PetscInt c[3], int a)
 {
   return 0.5 * (eps(c[0] - (a == 0), c[1] - (a == 1), c[2] - (a == 2)) + eps.at(c));

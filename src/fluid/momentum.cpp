@@ -11,74 +11,167 @@ namespace fluidbed {
 
 namespace {
 
-struct Cell {
-  PetscInt c[3];
-  Cell     operator()(int a, PetscInt d) const
-  {
-    Cell q = *this;
-    q.c[a] += d;
-    return q;
+// The volume flux eps_f u_b A_b through the lower b-face of each cell at the old void fraction, flux[b * N + p] for
+// the cell at offset p of the ghosted layout of U and E0 (N cells): the owned cells and one layer around them, all
+// that the control volumes of the owned faces touch.
+void FaceFluxes(const Fluid *f, const FieldView &U, const FieldView &E0, PetscInt N, PetscReal *flux)
+{
+  const PetscInt dof = U.dof;
+  for (int b = 0; b < f->dim; ++b) {
+    const PetscInt   sb = U.stride(b);
+    const PetscReal *e0 = E0.a, *u = U.a + b;
+    PetscReal       *Fb = flux + b * N;
+    PetscInt         lo[3], hi[3];
+    OwnedBox(f, lo, hi);
+    for (int d = 0; d < f->dim; ++d) lo[d] -= 1;
+    hi[b] += 1;
+    ForEachCellInBox(U, lo, hi, [&](PetscInt p) { Fb[p] = 0.5 * (e0[p - sb] + e0[p]) * u[p * dof] * f->area[b]; });
   }
-};
+}
+
+// The convective transport F v through the faces of the control volumes of velocity component a, each computed
+// once although it is the upper face of one control volume and the lower face of the next: F the mean of the two
+// cell-face fluxes it lies between, v the TVD-limited upwind value. G[b * N + p] is the face normal to b
+// - b = a: at the centre of the cell at offset p (the upper face of the control volume of the a-face of that cell);
+// - b != a: between the a-faces of the cells p and p - a, on their lower b-faces (the lower face of the control
+//   volume of the a-face of cell p).
+template <kernels::Limiter L>
+void ControlVolumeTransport(const Fluid *f, const FieldView &U, const PetscReal *flux, PetscInt N, int a, PetscReal *G)
+{
+  const PetscInt   dof = U.dof, sa = U.stride(a);
+  const PetscReal *u = U.a + a; // u[p * dof]: component a at the cell at offset p
+  for (int b = 0; b < f->dim; ++b) {
+    const PetscInt   sb = U.stride(b);
+    const PetscReal *Fb = flux + b * N;
+    PetscReal       *Gb = G + b * N;
+    PetscInt         lo[3], hi[3];
+    OwnedBox(f, lo, hi);
+    if (b == a) {
+      lo[a] -= 1; // the lower face of the first control volume is the centre of the cell below it
+      ForEachCellInBox(U, lo, hi, [&](PetscInt p) {
+        const PetscReal F = 0.5 * (Fb[p] + Fb[p + sa]);
+        Gb[p]             = F * kernels::upwind_face_value<L>(F, u[(p - sa) * dof], u[p * dof], u[(p + sa) * dof], u[(p + 2 * sa) * dof]);
+      });
+      continue;
+    }
+    hi[b] += 1; // the upper face of the last control volume
+    ForEachCellInBox(U, lo, hi, [&](PetscInt p) {
+      const PetscReal F = 0.5 * (Fb[p - sa] + Fb[p]);
+      Gb[p]             = F * kernels::upwind_face_value<L>(F, u[(p - 2 * sb) * dof], u[(p - sb) * dof], u[p * dof], u[(p + sb) * dof]);
+    });
+    if (f->periodic[b]) continue;
+    // on the boundary the carried value is the boundary's when the flow comes in, the interior's when it leaves
+    for (int side = 0; side < 2; ++side) {
+      const PetscInt e = side ? f->n[b] : 0;
+      if (e < lo[b] || e >= hi[b]) continue; // not on this rank
+      PetscInt plo[3] = {lo[0], lo[1], lo[2]}, phi[3] = {hi[0], hi[1], hi[2]};
+      plo[b]               = e;
+      phi[b]               = e + 1;
+      const PetscReal wall = f->wall_velocity[2 * b + side][a];
+      ForEachCellInBox(U, plo, phi, [&](PetscInt p) {
+        const PetscReal F = 0.5 * (Fb[p - sa] + Fb[p]);
+        Gb[p]             = F * (side ? (F < 0 ? wall : u[(p - sb) * dof]) : (F > 0 ? wall : u[p * dof]));
+      });
+    }
+  }
+}
+
+// The predicted velocity of component a on the faces this rank owns, boundary faces excepted (set by the boundary
+// conditions), from the transport G of ControlVolumeTransport.
+void PredictComponent(const Fluid *f, PetscReal dt, int a, const FieldView &U, const FieldView &E0, const FieldView &E, const FieldView &S,
+                      const FieldView &B, const FieldView &Un, const PetscReal *G, PetscInt N)
+{
+  const int        dim = (int)f->dim;
+  const PetscInt   dof = U.dof, sa = U.stride(a), sdof = S.dof, ssa = S.stride(a);
+  const PetscReal  nu = f->mu / f->rho, rho_g = f->rho * f->dom->gravity[a];
+  const PetscReal *u = U.a + a, *e0 = E0.a, *e = E.a, *s = S.a + a, *be = B.a;
+  PetscReal       *un = Un.a + a;
+  PetscReal        coef[3];
+  PetscInt         st[3], lo[3], hi[3];
+  for (int b = 0; b < 3; ++b) {
+    coef[b] = f->area[b] / f->h[b];
+    st[b]   = U.stride(b);
+  }
+  OwnedBox(f, lo, hi);
+  if (!f->periodic[a]) lo[a] = PetscMax(lo[a], 1); // boundary face: set by the boundary conditions
+  for (PetscInt k = lo[2]; k < hi[2]; ++k)
+    for (PetscInt j = lo[1]; j < hi[1]; ++j) {
+      PetscInt p = U.cell(lo[0], j, k), ps = S.cell(lo[0], j, k), q = Un.cell(lo[0], j, k);
+      for (PetscInt i = lo[0]; i < hi[0]; ++i, ++p, ++ps, ++q) {
+        const PetscInt l    = p - sa; // the cell below the face
+        PetscReal      conv = 0, visc = 0;
+        for (int b = 0; b < dim; ++b) {
+          const PetscReal *Gb = G + b * N;
+          const PetscInt   sb = st[b];
+          if (b == a) {
+            // faces of the control volume at the centres of cells P (upper) and L (lower)
+            conv += Gb[p] - Gb[l];
+            visc += coef[a] * (e0[p] * (u[(p + sa) * dof] - u[p * dof]) - e0[l] * (u[p * dof] - u[l * dof]));
+          } else {
+            // faces of the control volume on the b-faces of cells L and P (lower) and their upper neighbours
+            conv += Gb[p + sb] - Gb[p];
+            const PetscReal elo = 0.25 * (e0[l] + e0[p] + e0[l - sb] + e0[p - sb]);
+            const PetscReal ehi = 0.25 * (e0[l] + e0[p] + e0[l + sb] + e0[p + sb]);
+            visc += coef[b] * (ehi * (u[(p + sb) * dof] - u[p * dof]) - elo * (u[p * dof] - u[(p - sb) * dof]));
+          }
+        }
+        const PetscReal eps_old = 0.5 * (e0[l] + e0[p]), eps_new = 0.5 * (e[l] + e[p]);
+        const PetscReal gravity = rho_g * (f->model == FLUID_MODEL_B ? 1.0 : eps_new);
+        const PetscReal source  = 0.5 * (s[(ps - ssa) * sdof] + s[ps * sdof]) + f->body_force[a];
+        const PetscReal m       = eps_old * u[p * dof] + dt * ((nu * visc - conv) / f->vol + (source + gravity) / f->rho);
+        const PetscReal beta    = f->has_drag ? 0.5 * (be[l] + be[p]) : 0.0; // implicit drag: m = (eps + dt beta / rho) u*
+        un[q * dof]             = m / (eps_new + dt * beta / f->rho);
+      }
+    }
+}
+
+template <kernels::Limiter L>
+void Predict(Fluid *f, PetscReal dt, const FieldView &U, const FieldView &E0, const FieldView &E, const FieldView &S, const FieldView &B,
+             const FieldView &Un)
+{
+  const PetscInt N    = U.m[0] * U.m[1] * U.m[2];
+  PetscReal     *flux = FluidWork(f, (std::size_t)(2 * f->dim * N)), *G = flux + f->dim * N;
+  FaceFluxes(f, U, E0, N, flux);
+  for (int a = 0; a < f->dim; ++a) {
+    ControlVolumeTransport<L>(f, U, flux, N, a, G);
+    PredictComponent(f, dt, a, U, E0, E, S, B, Un, G, N);
+  }
+}
 
 } // namespace
 
 PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
 {
-  FieldView              U, E0, E, S, Un;
-  const PetscReal        nu  = f->mu / f->rho;
-  const kernels::Limiter lim = f->limiter;
-  const int              dim = (int)f->dim;
+  FieldView U, E0, E, S, B, Un;
 
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_c, f->source_loc, PETSC_TRUE, &S));
-  FieldView B;
   PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
-  // volume flux through the lower b-face of cell q, at the old void fraction
-  auto flux = [&](const Cell &q, int b) { return FaceEps(E0, q.c, b) * U.at(q.c, b) * f->area[b]; };
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    const Cell P = {{i, j, k}};
-    for (int a = 0; a < dim; ++a) {
-      if (!f->periodic[a] && P.c[a] == 0) continue; // boundary face: set by the boundary conditions
-      const Cell L    = P(a, -1);
-      auto       u    = [&](const Cell &q) { return U.at(q.c, a); };
-      PetscReal  conv = 0, visc = 0;
-      for (int b = 0; b < dim; ++b) {
-        if (b == a) {
-          // faces of the control volume at the centres of cells P (upper) and L (lower)
-          const PetscReal Fhi = 0.5 * (flux(P, a) + flux(P(a, 1), a)), Flo = 0.5 * (flux(L, a) + flux(P, a));
-          const PetscReal vhi = kernels::upwind_face_value(lim, Fhi, u(P(a, -1)), u(P), u(P(a, 1)), u(P(a, 2)));
-          const PetscReal vlo = kernels::upwind_face_value(lim, Flo, u(P(a, -2)), u(P(a, -1)), u(P), u(P(a, 1)));
-          conv += Fhi * vhi - Flo * vlo;
-          visc += f->area[a] / f->h[a] * (E0.at(P.c) * (u(P(a, 1)) - u(P)) - E0.at(L.c) * (u(P) - u(L)));
-        } else {
-          // faces of the control volume on the b-faces of cells L and P (lower) and their upper neighbours
-          const PetscReal Flo = 0.5 * (flux(L, b) + flux(P, b)), Fhi = 0.5 * (flux(L(b, 1), b) + flux(P(b, 1), b));
-          PetscReal       vlo = kernels::upwind_face_value(lim, Flo, u(P(b, -2)), u(P(b, -1)), u(P), u(P(b, 1)));
-          PetscReal       vhi = kernels::upwind_face_value(lim, Fhi, u(P(b, -1)), u(P), u(P(b, 1)), u(P(b, 2)));
-          if (!f->periodic[b]) {
-            // on the boundary the carried value is the boundary's when the flow comes in, the interior's when it leaves
-            if (P.c[b] == 0) vlo = Flo > 0 ? f->wall_velocity[2 * b][a] : u(P);
-            if (P.c[b] == f->n[b] - 1) vhi = Fhi < 0 ? f->wall_velocity[2 * b + 1][a] : u(P);
-          }
-          conv += Fhi * vhi - Flo * vlo;
-          const PetscReal elo = 0.25 * (E0.at(L.c) + E0.at(P.c) + E0.at(L(b, -1).c) + E0.at(P(b, -1).c));
-          const PetscReal ehi = 0.25 * (E0.at(L.c) + E0.at(P.c) + E0.at(L(b, 1).c) + E0.at(P(b, 1).c));
-          visc += f->area[b] / f->h[b] * (ehi * (u(P(b, 1)) - u(P)) - elo * (u(P) - u(P(b, -1))));
-        }
-      }
-      const PetscReal eps_old = FaceEps(E0, P.c, a), eps_new = FaceEps(E, P.c, a);
-      const PetscReal gravity = f->rho * f->dom->gravity[a] * (f->model == FLUID_MODEL_B ? 1.0 : eps_new);
-      const PetscReal source  = 0.5 * (S.at(L.c, a) + S.at(P.c, a)) + f->body_force[a];
-      const PetscReal m       = eps_old * u(P) + dt * ((nu * visc - conv) / f->vol + (source + gravity) / f->rho);
-      const PetscReal beta    = f->has_drag ? FaceEps(B, P.c, a) : 0.0; // implicit drag: m = (eps + dt beta / rho) u*
-      Un.at(P.c, a)           = m / (eps_new + dt * beta / f->rho);
-    }
-  });
+  // U, E0, E and B share one ghosted layout (da_u and da_s: the same grid, stencil and ghosts), so one cell offset
+  // addresses them all
+  PetscCheck(SameLayout(U, E0) && SameLayout(U, E) && SameLayout(U, B), f->comm, PETSC_ERR_PLIB,
+             "the velocity and scalar ghosted layouts differ");
+  switch (f->limiter) {
+  case kernels::Limiter::Upwind:
+    Predict<kernels::Limiter::Upwind>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::VanLeer:
+    Predict<kernels::Limiter::VanLeer>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Koren:
+    Predict<kernels::Limiter::Koren>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Minmod:
+    Predict<kernels::Limiter::Minmod>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Superbee:
+    Predict<kernels::Limiter::Superbee>(f, dt, U, E0, E, S, B, Un);
+    break;
+  }
   PetscCall(FieldRestore(f->u, &Un));
   PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->source_loc, &S));
@@ -98,21 +191,31 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
   PetscFunctionBeginUser;
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    const Cell P        = {{i, j, k}};
-    PetscReal  speed[3] = {0, 0, 0}, emin = E.at(P.c), emax = E.at(P.c);
-    for (int a = 0; a < f->dim; ++a) {
-      speed[a] = PetscMax(PetscAbsReal(U.at(P.c, a)), PetscAbsReal(U.at(P(a, 1).c, a)));
-      for (int d = -1; d <= 1; d += 2) {
-        emin = PetscMin(emin, E.at(P(a, d).c));
-        emax = PetscMax(emax, E.at(P(a, d).c));
-      }
-      max_speed = PetscMax(max_speed, speed[a]);
+  {
+    const int                   dim = (int)f->dim;
+    const PetscInt              dof = U.dof;
+    const PetscReal            *u = U.a, *e = E.a;
+    const kernels::StepRateGrid grid = kernels::step_rate_grid(dim, f->h, nu, psi);
+    PetscInt                    su[3], se[3];
+    for (int a = 0; a < 3; ++a) {
+      su[a] = U.stride(a);
+      se[a] = E.stride(a);
     }
-    const kernels::StepRates r = kernels::explicit_step_rates((int)f->dim, speed, f->h, nu, psi, emax / emin);
-    loc[0]                     = PetscMax(loc[0], r.conv);
-    loc[1]                     = PetscMax(loc[1], r.visc);
-  });
+    ForEachOwnedOffset(f, U, E, [&](PetscInt pu, PetscInt pe) {
+      PetscReal speed[3] = {0, 0, 0}, emin = e[pe], emax = e[pe];
+      for (int a = 0; a < dim; ++a) {
+        speed[a] = PetscMax(PetscAbsReal(u[pu * dof + a]), PetscAbsReal(u[(pu + su[a]) * dof + a]));
+        for (int d = -1; d <= 1; d += 2) {
+          emin = PetscMin(emin, e[pe + d * se[a]]);
+          emax = PetscMax(emax, e[pe + d * se[a]]);
+        }
+        max_speed = PetscMax(max_speed, speed[a]);
+      }
+      const kernels::StepRates r = kernels::explicit_step_rates(grid, speed, emax / emin);
+      loc[0]                     = PetscMax(loc[0], r.conv);
+      loc[1]                     = PetscMax(loc[1], r.visc);
+    });
+  }
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->u_loc, &U));
   // a moving wall drives the cells next to it before they move

@@ -16,21 +16,23 @@ namespace fluidbed {
 
 namespace {
 
-// c_f of the projection at the lower a-face of cell c (fluid_impl.hpp): B is the drag coefficient's view (read
-// only when the coupling set one), dt the step.
-PetscReal FaceCoefficient(const Fluid *f, const FieldView &E, const FieldView &B, PetscReal dt, const PetscInt c[3], int a)
+// c_f of the projection at the lower a-face of the cell at offset p of the arrays of E (void fraction) and B (the
+// drag coefficient, read only when the coupling set one), which share one ghosted layout; sa: the offset between
+// neighbours along a, dt the step.
+inline PetscReal FaceCoefficient(const Fluid *f, const PetscReal *E, const PetscReal *B, PetscReal dt, PetscInt p, PetscInt sa)
 {
-  const PetscReal e = FaceEps(E, c, a);
-  return ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : e, e, f->has_drag ? FaceEps(B, c, a) : 0.0, dt, f->rho);
+  const PetscReal e = 0.5 * (E[p - sa] + E[p]);
+  return ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : e, e, f->has_drag ? 0.5 * (B[p - sa] + B[p]) : 0.0, dt, f->rho);
 }
 
-// Volume flux eps_f u A out of cell c through its faces (m^3/s).
-PetscReal NetOutflow(const Fluid *f, const FieldView &U, const FieldView &E, const PetscInt c[3])
+// Volume flux eps_f u A out of the cell at offset p through its faces (m^3/s); U (dof dim) and E share one ghosted
+// layout, st: the offsets between neighbours.
+inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal *E, PetscInt dof, const PetscInt st[3], PetscInt p)
 {
   PetscReal out = 0;
   for (int a = 0; a < f->dim; ++a) {
-    const PetscInt up[3] = {c[0] + (a == 0), c[1] + (a == 1), c[2] + (a == 2)};
-    out += f->area[a] * (FaceEps(E, up, a) * U.at(up, a) - FaceEps(E, c, a) * U.at(c, a));
+    const PetscInt up = p + st[a];
+    out += f->area[a] * (0.5 * (E[p] + E[up]) * U[up * dof + a] - 0.5 * (E[p - st[a]] + E[p]) * U[p * dof + a]);
   }
   return out;
 }
@@ -43,35 +45,49 @@ PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
   PetscCall(MatZeroEntries(f->A));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
+  PetscCheck(SameLayout(E, B), f->comm, PETSC_ERR_PLIB, "the scalar ghosted layouts differ");
   f->dt_last = dt;
+  // c_f A / h of every face between two cells of the rows this rank owns, computed once for the two rows that share
+  // it: W[a * N + p] for the lower a-face of the cell at offset p
+  const PetscInt N = E.m[0] * E.m[1] * E.m[2];
+  PetscReal     *W = FluidWork(f, (std::size_t)(f->dim * N));
+  for (int a = 0; a < f->dim; ++a) {
+    const PetscInt sa = E.stride(a);
+    PetscReal     *Wa = W + a * N;
+    PetscInt       lo[3], hi[3];
+    OwnedBox(f, lo, hi);
+    hi[a] += 1; // the upper face of the last cell
+    ForEachCellInBox(E, lo, hi, [&](PetscInt p) { Wa[p] = FaceCoefficient(f, E.a, B.a, dt, p, sa) * f->area[a] / f->h[a]; });
+  }
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
-    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j)
-      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
+    for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j) {
+      PetscInt p = E.cell(f->xs[0], j, k);
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i, ++p) {
         const PetscInt c[3] = {i, j, k};
         MatStencil     row  = {k, j, i, 0}, col[7];
         PetscScalar    val[7], diag = 0;
         PetscInt       n = 0;
-        for (int a = 0; a < f->dim; ++a)
+        for (int a = 0; a < f->dim; ++a) {
+          const PetscInt sa = E.stride(a);
           for (int side = 0; side < 2; ++side) {
-            PetscInt nb[3] = {i, j, k};
-            nb[a] += side ? 1 : -1;
-            if (!f->periodic[a] && (nb[a] < 0 || nb[a] >= f->n[a])) {
+            const PetscInt d = side ? 1 : -1;
+            if (!f->periodic[a] && (c[a] + d < 0 || c[a] + d >= f->n[a])) {
               if (f->bc[2 * a + side] == FLUID_BC_PRESSURE)
-                diag += ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : E.at(c), E.at(c), f->has_drag ? B.at(c) : 0.0, dt, f->rho) *
+                diag += ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : E.a[p], E.a[p], f->has_drag ? B.a[p] : 0.0, dt, f->rho) *
                         f->area[a] / (0.5 * f->h[a]);
               continue; // otherwise the normal velocity is given: no pressure flux
             }
-            const PetscInt fc[3] = {side ? nb[0] : i, side ? nb[1] : j,
-                                    side ? nb[2] : k}; // the shared face, as the lower face of its upper cell
-            const PetscReal coef = FaceCoefficient(f, E, B, dt, fc, a) * f->area[a] / f->h[a];
-            col[n]               = {nb[2], nb[1], nb[0], 0};
+            const PetscReal coef = W[a * N + (side ? p + sa : p)]; // the shared face, as the lower face of its upper cell
+            col[n]               = {k + d * (a == 2), j + d * (a == 1), i + d * (a == 0), 0};
             val[n++]             = -coef;
             diag += coef;
           }
+        }
         col[n]   = row;
         val[n++] = diag;
         PetscCall(MatSetValuesStencil(f->A, 1, &row, n, col, val, INSERT_VALUES)); // each row once, whole
       }
+    }
   PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(MatAssemblyBegin(f->A, MAT_FINAL_ASSEMBLY));
@@ -331,11 +347,14 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
   PetscCall(FieldGet(f->da_p, f->rhs, PETSC_FALSE, &b));
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    const PetscInt  c[3] = {i, j, k};
-    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
-    b(i, j, k)           = -(NetOutflow(f, U, E, c) + f->vol * deps);
-  });
+  PetscCheck(SameLayout(U, E) && SameLayout(U, E0), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
+  {
+    const PetscInt st[3] = {U.stride(0), U.stride(1), U.stride(2)};
+    ForEachOwnedOffset(f, U, b, [&](PetscInt p, PetscInt q) {
+      const PetscReal deps = f->deps_dt ? (E.a[p] - E0.a[p]) / dt : 0.0;
+      b.a[q]               = -(NetOutflow(f, U.a, E.a, U.dof, st, p) + f->vol * deps);
+    });
+  }
   PetscCall(FieldRestore(f->rhs, &b));
   PetscCall(FieldRestore(f->eps_old_loc, &E0));
   PetscCall(FieldRestore(f->eps_loc, &E));
@@ -386,15 +405,22 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    const PetscInt c[3] = {i, j, k};
-    for (int a = 0; a < f->dim; ++a) {
-      if (!f->periodic[a] && c[a] == 0) continue;
-      const PetscInt  l[3] = {i - (a == 0), j - (a == 1), k - (a == 2)};
-      const PetscReal e    = FaceEps(E, c, a);
-      Un.at(c, a)          = U.at(c, a) - FaceCoefficient(f, E, B, dt, c, a) / e * (Ph.at(c) - Ph.at(l)) / f->h[a];
-    }
-  });
+  PetscCheck(SameLayout(U, E) && SameLayout(U, B), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
+  for (int a = 0; a < f->dim; ++a) {
+    // the faces this rank owns, boundary faces excepted (their velocity is given)
+    const PetscInt dof = U.dof, sa = U.stride(a), sp = Ph.stride(a);
+    PetscInt       lo[3], hi[3];
+    OwnedBox(f, lo, hi);
+    if (!f->periodic[a]) lo[a] = PetscMax(lo[a], 1);
+    for (PetscInt k = lo[2]; k < hi[2]; ++k)
+      for (PetscInt j = lo[1]; j < hi[1]; ++j) {
+        PetscInt p = U.cell(lo[0], j, k), pp = Ph.cell(lo[0], j, k), q = Un.cell(lo[0], j, k);
+        for (PetscInt i = lo[0]; i < hi[0]; ++i, ++p, ++pp, ++q) {
+          const PetscReal e = 0.5 * (E.a[p - sa] + E.a[p]);
+          Un.a[q * dof + a] = U.a[p * dof + a] - FaceCoefficient(f, E.a, B.a, dt, p, sa) / e * (Ph.a[pp] - Ph.a[pp - sp]) / f->h[a];
+        }
+      }
+  }
   if (f->has_dirichlet && f->xs[1] + f->xm[1] == f->n[1]) {
     FieldView      top;
     const PetscInt j = f->n[1] - 1;
@@ -425,11 +451,14 @@ PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div)
   PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
-  ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
-    const PetscInt  c[3] = {i, j, k};
-    const PetscReal deps = f->deps_dt ? (E.at(c) - E0.at(c)) / dt : 0.0;
-    loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U, E, c) / f->vol + deps));
-  });
+  PetscCheck(SameLayout(U, E) && SameLayout(U, E0), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
+  {
+    const PetscInt st[3] = {U.stride(0), U.stride(1), U.stride(2)};
+    ForEachOwnedOffset(f, U, U, [&](PetscInt p, PetscInt) {
+      const PetscReal deps = f->deps_dt ? (E.a[p] - E0.a[p]) / dt : 0.0;
+      loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U.a, E.a, U.dof, st, p) / f->vol + deps));
+    });
+  }
   PetscCall(FieldRestore(f->eps_old_loc, &E0));
   PetscCall(FieldRestore(f->eps_loc, &E));
   PetscCall(FieldRestore(f->u_loc, &U));

@@ -4,12 +4,87 @@
 
 #include "fluidbed/kernels/fluid_flux.hpp"
 
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+
 using namespace fluidbed::kernels;
 
 namespace {
 const Limiter kAll[]         = {Limiter::Upwind, Limiter::VanLeer, Limiter::Koren, Limiter::Minmod, Limiter::Superbee};
 const Limiter kSecondOrder[] = {Limiter::VanLeer, Limiter::Koren, Limiter::Minmod, Limiter::Superbee};
+
+std::uint64_t Bits(double x)
+{
+  std::uint64_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+
+// The limiter as first written (a switch on every call): the templates must give the same numbers bit for bit.
+double ReferencePsi(Limiter l, double r)
+{
+  if (!(r > 0.0)) return 0.0;
+  switch (l) {
+  case Limiter::Upwind:
+    return 0.0;
+  case Limiter::VanLeer:
+    return 2.0 * r / (1.0 + r);
+  case Limiter::Koren:
+    return std::max(0.0, std::min({2.0 * r, (1.0 + 2.0 * r) / 3.0, 2.0}));
+  case Limiter::Minmod:
+    return std::min(r, 1.0);
+  case Limiter::Superbee:
+    return std::max(std::min(2.0 * r, 1.0), std::min(r, 2.0));
+  }
+  return 0.0;
+}
+double ReferenceFaceValue(Limiter l, double flux, double lo2, double lo, double hi, double hi2)
+{
+  const bool   pos = flux >= 0.0;
+  const double uu = pos ? lo2 : hi2, u = pos ? lo : hi, d = pos ? hi : lo, du = d - u;
+  if (du == 0.0) return u;
+  return u + 0.5 * ReferencePsi(l, (u - uu) / du) * du;
+}
+
+// Velocity-like samples: repeated values (du = 0), signed zeros, tiny and large magnitudes.
+double Sample(std::mt19937_64 &rng)
+{
+  static const double                special[] = {0.0, -0.0, 1.0, -1.0, 45.3, 1e-300, -2.5, 3.0};
+  std::uniform_int_distribution<int> pick(0, 3);
+  std::uniform_real_distribution<>   x(-50.0, 50.0);
+  std::uniform_int_distribution<int> s(0, 7);
+  return pick(rng) == 0 ? special[s(rng)] : x(rng);
+}
+
+template <Limiter L>
+void ExpectTemplateMatchesReference()
+{
+  std::mt19937_64 rng(20260101);
+  const double    rs[] = {-1.0, 0.0, -0.0, 1e-300, 0.25, 1.0, 3.0, 1e300, std::numeric_limits<double>::infinity(), std::nan("")};
+  for (double r : rs) {
+    EXPECT_EQ(Bits(limiter_psi<L>(r)), Bits(ReferencePsi(L, r))) << "r = " << r;
+    EXPECT_EQ(Bits(limiter_psi(L, r)), Bits(ReferencePsi(L, r))) << "r = " << r;
+  }
+  for (int n = 0; n < 20000; ++n) {
+    const double flux = Sample(rng), lo2 = Sample(rng), lo = Sample(rng), hi = Sample(rng), hi2 = Sample(rng);
+    const double ref = ReferenceFaceValue(L, flux, lo2, lo, hi, hi2);
+    EXPECT_EQ(Bits(upwind_face_value<L>(flux, lo2, lo, hi, hi2)), Bits(ref));
+    EXPECT_EQ(Bits(upwind_face_value(L, flux, lo2, lo, hi, hi2)), Bits(ref));
+    EXPECT_EQ(Bits(tvd_face_value<L>(lo2, lo, hi)), Bits(tvd_face_value(L, lo2, lo, hi)));
+  }
+}
 } // namespace
+
+TEST(Limiter, TemplatesMatchTheRuntimeChoiceBitForBit)
+{
+  ExpectTemplateMatchesReference<Limiter::Upwind>();
+  ExpectTemplateMatchesReference<Limiter::VanLeer>();
+  ExpectTemplateMatchesReference<Limiter::Koren>();
+  ExpectTemplateMatchesReference<Limiter::Minmod>();
+  ExpectTemplateMatchesReference<Limiter::Superbee>();
+}
 
 TEST(Limiter, StaysInTheTvdRegion)
 {
@@ -77,6 +152,37 @@ TEST(StepRates, ConvectiveAndViscousLimits)
   StepRates r2 = explicit_step_rates(2, speed, h, nu, 0.0, 2.0);
   EXPECT_NEAR(r2.conv, 2.0 * 2e4, 1e-9);
   EXPECT_NEAR(r2.visc, 2.0 * 2.0 * nu * (1e6 + 2.5e5), 1e-9);
+}
+
+TEST(StepRates, GridFormMatchesTheFormulaBitForBit)
+{
+  // the rates as first written, everything per cell
+  auto reference = [](int dim, const double speed[3], const double h[3], double nu, double psi_max, double eps_ratio) {
+    StepRates r;
+    for (int a = 0; a < dim; ++a) {
+      r.conv += std::fabs(speed[a]) / h[a];
+      r.visc += 1.0 / (h[a] * h[a]);
+    }
+    r.conv *= (1.0 + 0.5 * psi_max) * eps_ratio;
+    r.visc *= 2.0 * nu * eps_ratio;
+    return r;
+  };
+  std::mt19937_64                  rng(7);
+  std::uniform_real_distribution<> u(-60.0, 60.0), ratio(1.0, 3.0);
+  const double                     h[3] = {0.0564 / 175, 0.28 / 200, 0.00495 / 5}, nu = 1.8e-5 / 1.205;
+  for (int dim = 2; dim <= 3; ++dim)
+    for (double psi : {0.0, 1.0, 2.0}) {
+      const StepRateGrid g = step_rate_grid(dim, h, nu, psi);
+      for (int n = 0; n < 2000; ++n) {
+        const double    speed[3] = {u(rng), n % 7 ? u(rng) : 0.0, u(rng)}, e = n % 5 ? ratio(rng) : 1.0;
+        const StepRates want = reference(dim, speed, h, nu, psi, e), got = explicit_step_rates(g, speed, e),
+                        direct = explicit_step_rates(dim, speed, h, nu, psi, e);
+        EXPECT_EQ(Bits(got.conv), Bits(want.conv));
+        EXPECT_EQ(Bits(got.visc), Bits(want.visc));
+        EXPECT_EQ(Bits(direct.conv), Bits(want.conv));
+        EXPECT_EQ(Bits(direct.visc), Bits(want.visc));
+      }
+    }
 }
 
 TEST(JetSnap, EdgesOnFaces)
