@@ -7,9 +7,10 @@ superficial velocity then rises in steps and falls back, each step continued fro
 distributor, extrapolated from the two lowest cell centres, minus the one above the bed and the gas column) is
 averaged over the second half of each step. U_mf is where the packed-bed branch, fitted as a U + b U^2 (Ergun's
 form), meets the fluidized plateau (the mean of the steps at or above --plateau-from); it is compared with Ergun's
-U_mf for the packed bed's measured voidage and with the seed's measured 0.30 m/s.
+U_mf for the packed bed's measured voidage (layer by layer, and as one bulk or whole-bed voidage; the rising curve
+against the settled bed, the falling one against the bed it leaves) and with the seed's measured 0.30 m/s.
 
-    scripts/umf_sweep.py [--out DIR] [--velocities 0.05,0.1,...] [--step 0.2] [--np 1] [--plot FILE] [--json FILE]"""
+    scripts/umf_sweep.py [--out DIR] [--velocities 0.05,0.1,...] [--step 0.3] [--np 1] [--reuse] [--plot FILE] [--json FILE]"""
 import argparse
 import json
 import math
@@ -28,6 +29,7 @@ sys.path.insert(0, HERE)
 D, RHO_P, MU, RHO_G, G = 1.2e-3, 1000.0, 1.8e-5, 1.205, 9.81
 SEED_UMF = 0.30  # m/s, measured by Muller et al. (2009), seed Table 2.1
 LX, LZ = 0.02, 0.01  # m, the bed's cross-section
+LAYER, LAYERS = 0.06 / 18, 18  # m: the fluid grid's cell layers (-grid_ny 18 over -domain_ly 0.06)
 
 
 def ergun_gradient(eps, u):
@@ -72,6 +74,24 @@ def packed_voidage(particles, lx, lz, columns=6, margin=0.2):
     return float(bulk), float(mean), height
 
 
+def layered_ergun_umf(particles, lx, lz, layer=LAYER, layers=LAYERS):
+    """(U_mf, layer voidages): Ergun for the bed's measured voidage layer by layer. Each fluid-grid layer's voidage
+    counts the particles whose centres lie in it (as the coupling does, eq. 5.2); U_mf is where the pressure drop
+    summed over the layers, sum h Ergun(eps_j, U), carries the buoyant weight per area of all of them. A packed bed is
+    looser at the distributor and at its surface than in its bulk, and Ergun's gradient is far from linear in the
+    voidage, so no single voidage stands for the layers."""
+    j = np.clip((particles["y"] / layer).astype(int), 0, layers - 1)
+    solid = np.bincount(j, weights=np.pi / 6 * particles["d"] ** 3, minlength=layers)
+    eps = 1.0 - solid / (lx * lz * layer)
+    weight = np.sum(solid) * (RHO_P - RHO_G) * G / (lx * lz)
+    lo, hi = 0.0, 10.0
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        dp = sum(layer * ergun_gradient(e, mid) for e in eps if e < 1.0)
+        lo, hi = (mid, hi) if dp < weight else (lo, mid)
+    return 0.5 * (lo + hi), eps
+
+
 def read_csv(path):
     data = np.genfromtxt(path, delimiter=",", names=True)
     return {n: np.atleast_1d(data[n]) for n in data.dtype.names}
@@ -108,6 +128,7 @@ def main():
     ap.add_argument("--plateau-from", type=float, default=0.5, help="velocities at or above this form the plateau (m/s)")
     ap.add_argument("--np", type=int, default=1, help="MPI ranks")
     ap.add_argument("--exe", default=os.environ.get("FLUIDBED_EXE", os.path.join(ROOT, "build", "fluidbed")))
+    ap.add_argument("--reuse", action="store_true", help="keep the runs already in --out (same schedule) and run only the missing ones")
     ap.add_argument("--plot", default=None, help="PNG of the curve")
     ap.add_argument("--json", default=None, help="results as JSON")
     args = ap.parse_args()
@@ -115,11 +136,13 @@ def main():
     rising = [float(v) for v in args.velocities.split(",")]
     schedule = [("rising", v) for v in rising] + [("falling", v) for v in reversed(rising[:-1])]
     scene = os.path.join(ROOT, "examples", "coupling", "small_bed.opts")
-    if os.path.isdir(args.out):
+    if os.path.isdir(args.out) and not args.reuse:
         shutil.rmtree(args.out)
-    os.makedirs(args.out)
+    os.makedirs(args.out, exist_ok=True)
 
     def run(outdir, t_final, extra):
+        if args.reuse and os.path.isfile(os.path.join(outdir, "summary.json")):
+            return
         cmd = [args.exe, "-options_file", scene, "-output_dir", outdir, "-t_final", repr(t_final), "-checkpoint_interval", repr(t_final),
                "-progress_interval", "0", "-output_particles", "1"] + extra
         if args.np > 1:
@@ -133,7 +156,7 @@ def main():
     particles = read_csv(os.path.join(settle, "particles.csv"))
     n = len(particles["id"])
     weight = n * math.pi / 6 * D ** 3 * (RHO_P - RHO_G) * G / (LX * LZ)
-    beds = {"rising": packed_voidage(particles, LX, LZ)}
+    beds = {"rising": packed_voidage(particles, LX, LZ) + layered_ergun_umf(particles, LX, LZ)}
     print("settled bed: %d particles, height %.2f mm, bulk voidage %.4f (mean %.4f); buoyant weight / area %.2f Pa"
           % (n, 1e3 * beds["rising"][2], beds["rising"][0], beds["rising"][1], weight))
 
@@ -149,21 +172,22 @@ def main():
         print("%-8s U = %.3f m/s: pressure drop %7.2f Pa (rms %.2f) over t = %.2f..%.2f s" % (branch, u, dp.mean(), dp.std(), t + 0.5 * args.step, t_end))
         prev, t = out, t_end
     # the falling branch ends on the bed that settled as the gas slowed down
-    beds["falling"] = packed_voidage(read_csv(os.path.join(prev, "particles.csv")), LX, LZ)
+    last = read_csv(os.path.join(prev, "particles.csv"))
+    beds["falling"] = packed_voidage(last, LX, LZ) + layered_ergun_umf(last, LX, LZ)
 
     res = {"particles": n, "weight_per_area_Pa": weight, "steps": rows, "umf_seed_measured": SEED_UMF}
     for branch in ("rising", "falling"):
         # the falling branch starts from the top of the rising one
         pts = [r for r in rows if r["branch"] == branch or (branch == "falling" and r["u"] == rising[-1])]
         umf, plateau, a, b = umf_from_curve([r["u"] for r in pts], [r["dp"] for r in pts], args.plateau_from)
-        bulk, mean, height = beds[branch]
+        bulk, mean, height, layered, layer_eps = beds[branch]
         res[branch] = {"umf": umf, "plateau_Pa": plateau, "fit": [a, b], "bed_height_m": height, "bulk_voidage": bulk,
-                       "mean_voidage": mean, "umf_ergun_bulk": ergun_umf(bulk), "umf_ergun_mean": ergun_umf(mean)}
+                       "mean_voidage": mean, "umf_ergun_layers": layered, "layer_voidage": [float(e) for e in layer_eps], "umf_ergun_bulk": ergun_umf(bulk), "umf_ergun_mean": ergun_umf(mean)}
         r = res[branch]
-        print("%-8s curve: U_mf %.4f m/s (plateau %.1f Pa); packed bed: height %.2f mm, bulk voidage %.4f -> Ergun U_mf %.4f m/s (%+.1f%%); "
-              "mean voidage %.4f -> Ergun %.4f m/s (%+.1f%%)" % (branch, umf, plateau, 1e3 * height, bulk, r["umf_ergun_bulk"],
-                                                                  100 * (umf / r["umf_ergun_bulk"] - 1), mean, r["umf_ergun_mean"],
-                                                                  100 * (umf / r["umf_ergun_mean"] - 1)))
+        print("%-8s curve: U_mf %.4f m/s (plateau %.1f Pa); packed bed %.2f mm high: Ergun layer by layer %.4f m/s (curve %+.1f%%); "
+              "bulk voidage %.4f -> Ergun %.4f m/s (%+.1f%%); mean voidage %.4f -> Ergun %.4f m/s (%+.1f%%)"
+              % (branch, umf, plateau, 1e3 * height, layered, 100 * (umf / layered - 1), bulk, r["umf_ergun_bulk"],
+                 100 * (umf / r["umf_ergun_bulk"] - 1), mean, r["umf_ergun_mean"], 100 * (umf / r["umf_ergun_mean"] - 1)))
     # the sphericity phi that would bring Ergun (spheres of diameter phi d) to the measured 0.30 m/s at the bulk voidage
     eps = res["falling"]["bulk_voidage"]
     lo, hi = 0.3, 1.0
@@ -191,13 +215,16 @@ def plot(res, path):
         pts = [r for r in res["steps"] if r["branch"] == branch]
         ax.errorbar([r["u"] for r in pts], [r["dp"] for r in pts], yerr=[r["dp_std"] for r in pts], fmt=style, ms=4, capsize=2,
                     label="%s velocity" % branch)
+    for branch, color in (("rising", "C0"), ("falling", "C1")):
+        r = res[branch]
+        u = np.linspace(0, r["umf_ergun_layers"], 50)
+        ax.plot(u, sum(LAYER * ergun_gradient(e, u) for e in r["layer_voidage"] if e < 1.0), ":", color=color, lw=1.2,
+                label="Ergun layer by layer, %s bed (%.1f mm, bulk voidage %.3f)" % ("settled" if branch == "rising" else "defluidized",
+                                                                                   1e3 * r["bed_height_m"], r["bulk_voidage"]))
     f = res["falling"]
-    u = np.linspace(0, f["umf_ergun_bulk"], 50)
-    ax.plot(u, ergun_gradient(f["bulk_voidage"], u) * f["bed_height_m"], "k:", lw=1,
-            label="Ergun, packed bed (bulk voidage %.3f, height %.1f mm)" % (f["bulk_voidage"], 1e3 * f["bed_height_m"]))
     ax.axhline(res["weight_per_area_Pa"], color="gray", lw=0.8, label="buoyant bed weight / area")
     ax.axvline(f["umf"], color="C1", lw=0.8, ls="--", label="U_mf from the falling curve %.3f m/s" % f["umf"])
-    ax.axvline(f["umf_ergun_bulk"], color="k", lw=0.8, ls=":", label="U_mf Ergun %.3f m/s" % f["umf_ergun_bulk"])
+    ax.axvline(f["umf_ergun_layers"], color="k", lw=0.8, ls=":", label="U_mf Ergun, layer by layer %.3f m/s" % f["umf_ergun_layers"])
     ax.axvline(res["umf_seed_measured"], color="C3", lw=0.8, label="U_mf measured (seed, poppy seeds) %.2f m/s" % res["umf_seed_measured"])
     ax.set_xlabel("superficial gas velocity U (m/s)")
     ax.set_ylabel("pressure drop across the bed (Pa)")

@@ -42,9 +42,11 @@ struct Coupling {
 
   DM                      da      = nullptr;
   Vec                     deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
-  PetscInt                until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
-  std::vector<PetscInt64> order_cell;    // per particle: its coupling cell (flat index) at the last deposit
-  std::vector<PetscInt>   order;         // the particles by cell, then id: the summation order of the deposits
+  PetscInt                until_gas = 1;           // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
+  std::vector<PetscInt64> order_cell;              // per particle: its coupling cell (flat index) at the last deposit
+  std::vector<PetscInt>   order;                   // the particles by cell, then id: the summation order of the deposits
+  std::vector<PetscInt>   by_id;                   // the particles by id (valid while the swarm's storage order is unchanged)
+  std::vector<PetscInt>   order_local, cell_start; // DepositOrder's scratch: cells in the ghosted block, counts
   CouplingStats           stats;
 };
 
@@ -114,24 +116,43 @@ void ForOwnedCells(const CellView &v, Fn &&fn)
 // by particle id. Floating-point sums depend on their order, and the swarm's storage order depends on the run's
 // history (sorting, migration, restart); summing in this order makes the cell sums, and so the whole coupled run, a
 // function of the particles' state alone, so that a restart repeats the uninterrupted run bit for bit.
+// The order is a stable counting sort by cell of the particles sorted by id. The id order only changes when the
+// swarm's storage does (list rebuilds), so it is kept and re-sorted only when it no longer lists increasing ids.
 PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ContactBody *bodies)
 {
   PetscInt64 *ids;
+  PetscInt    gs[3] = {0, 0, 0}, gm[3] = {1, 1, 1};
 
   PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
+  bool by_id = (PetscInt)c->by_id.size() == n;
+  for (PetscInt k = 1; by_id && k < n; ++k) by_id = ids[c->by_id[k - 1]] < ids[c->by_id[k]];
+  if (!by_id) {
+    c->by_id.resize(n);
+    for (PetscInt p = 0; p < n; ++p) c->by_id[p] = p;
+    std::sort(c->by_id.begin(), c->by_id.end(), [&](PetscInt a, PetscInt b) { return ids[a] < ids[b]; });
+  }
+  PetscCall(DMSwarmRestoreField(swarm, field::id, NULL, NULL, (void **)&ids));
+
+  // counting sort by the cell's index in this rank's ghosted block (particles lie in its owned cells or halo)
+  PetscCall(DMDAGetGhostCorners(c->da, &gs[0], &gs[1], &gs[2], &gm[0], &gm[1], &gm[2]));
+  if (c->dim == 2) gs[2] = 0, gm[2] = 1;
   c->order_cell.resize(n);
   c->order.resize(n);
+  c->cell_start.assign((std::size_t)(gm[0] * gm[1] * gm[2] + 1), 0);
+  std::vector<PetscInt> &local = c->order_local;
+  local.resize(n);
   for (PetscInt p = 0; p < n; ++p) {
     PetscInt cell[3];
     CellOf(c, bodies[p].x, cell);
+    for (int d = 0; d < 3; ++d)
+      PetscCheck(cell[d] >= gs[d] && cell[d] < gs[d] + gm[d], PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
     c->order_cell[p] = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
-    c->order[p]      = p;
+    local[p]         = (cell[0] - gs[0]) + gm[0] * ((cell[1] - gs[1]) + gm[1] * (cell[2] - gs[2]));
+    c->cell_start[(std::size_t)local[p] + 1]++;
   }
-  PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
-  std::sort(c->order.begin(), c->order.end(), [&](PetscInt a, PetscInt b) {
-    return c->order_cell[a] != c->order_cell[b] ? c->order_cell[a] < c->order_cell[b] : ids[a] < ids[b];
-  });
-  PetscCall(DMSwarmRestoreField(swarm, field::id, NULL, NULL, (void **)&ids));
+  for (std::size_t q = 1; q < c->cell_start.size(); ++q) c->cell_start[q] += c->cell_start[q - 1];
+  for (PetscInt p : c->by_id) c->order[c->cell_start[(std::size_t)local[p]]++] = p;
   PetscFunctionReturn(0);
 }
 

@@ -45,3 +45,16 @@ cubic = {"x": g[0].ravel(), "y": g[1].ravel(), "z": g[2].ravel(), "d": np.full(g
 bulk, mean, height = us.packed_voidage(cubic, n[0] * d, n[2] * d, columns=4)
 t.check(abs(bulk - (1 - math.pi / 6)) < 1e-3 and t.rel(height, n[1] * d) < 1e-12 and abs(mean - (1 - math.pi / 6)) < 1e-12,
         "simple cubic packing: bulk voidage %.5f, mean %.5f (1 - pi/6 = %.5f), height %.2f mm" % (bulk, mean, 1 - math.pi / 6, 1e3 * height))
+
+# layer by layer: six equally filled layers below empty ones give the single-voidage Ergun U_mf of that voidage;
+# a loose layer on top of them lowers the packed pressure drop per unit weight and so raises U_mf
+per_layer = 400
+ys = np.repeat((np.arange(6) + 0.5) * us.LAYER, per_layer)
+uniform = {"y": ys, "d": np.full(ys.size, d)}
+found, eps_layers = us.layered_ergun_umf(uniform, us.LX, us.LZ)
+eps6 = 1 - per_layer * math.pi / 6 * d ** 3 / (us.LX * us.LZ * us.LAYER)
+t.check(t.rel(found, us.ergun_umf(eps6)) < 1e-9 and np.all(eps_layers[6:] == 1.0),
+        "six uniform layers of voidage %.4f: U_mf %.6f m/s layer by layer, %.6f m/s from the single voidage" % (eps6, found, us.ergun_umf(eps6)))
+loose = {"y": np.concatenate([ys, np.full(40, 6.5 * us.LAYER)]), "d": np.full(ys.size + 40, d)}
+t.check(us.layered_ergun_umf(loose, us.LX, us.LZ)[0] > found, "a loose top layer raises the layered U_mf (%.4f > %.4f m/s)"
+        % (us.layered_ergun_umf(loose, us.LX, us.LZ)[0], found))
