@@ -116,6 +116,24 @@ def field_image(ax, field, lo, hi, label, cmap="viridis", vmin=None, vmax=None):
     return im
 
 
+def add_ymax_option(ap):
+    ap.add_argument("--ymax", type=float, default=None,
+                    help="top of the plotted region (m); default: 1.3 times the height of the time-averaged bed (its highest "
+                         "cells with a mean solid fraction above 0.005), the whole domain at most")
+
+
+def plot_top(ymax, solid_fraction, lo, hi):
+    """Top (m) of the region to draw: ymax when given, else 1.3 times the height of the highest layer of the
+    time-averaged solid fraction (ny, nx) above 0.005, within the domain."""
+    if ymax is not None:
+        return min(ymax, hi[1])
+    rows = np.nonzero(np.nanmax(solid_fraction, axis=1) > 0.005)[0]
+    if rows.size == 0:
+        return hi[1]
+    top = lo[1] + (rows[-1] + 1) * (hi[1] - lo[1]) / solid_fraction.shape[0]
+    return min(hi[1], lo[1] + 1.3 * (top - lo[1]))
+
+
 def save(fig, output):
     directory = os.path.dirname(os.path.abspath(output))
     os.makedirs(directory, exist_ok=True)

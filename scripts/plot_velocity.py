@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Particle velocity vectors of the time-averaged field (eq. 4.3 over the window, analysis.h5) over the
 time-averaged solid fraction; cells whose mean solid fraction is below --min-solid-fraction get no arrow. 3D
-fields are averaged over the depth.
+fields are averaged over the depth. The plot shows the bed and a margin above it (--ymax sets the top).
 
-    scripts/plot_velocity.py output/run velocity.png"""
+    scripts/plot_velocity.py output/run velocity.png [--ymax 0.15]"""
 
 import fbplot as fp
 import matplotlib.pyplot as plt
@@ -13,6 +13,7 @@ import numpy as np
 def main():
     ap = fp.parser(__doc__)
     ap.add_argument("--min-solid-fraction", type=float, default=0.01, help="no arrow below this mean solid fraction (default 0.01)")
+    fp.add_ymax_option(ap)
     args = ap.parse_args()
 
     a = fp.read_analysis(args.run)
@@ -30,6 +31,7 @@ def main():
     speed = np.hypot(v[..., 0], v[..., 1])
     q = ax.quiver(X[keep], Y[keep], v[..., 0][keep], v[..., 1][keep], speed[keep], cmap="plasma", angles="xy")
     plt.colorbar(q, ax=ax, label="particle speed (m/s)")
+    ax.set_ylim(lo[1] * fp.MM, fp.plot_top(args.ymax, sf, lo, hi) * fp.MM)
     ax.set_title("time-averaged particle velocity (%d samples)" % int(a["measures/samples"][0]))
     fp.save(fig, args.output)
 

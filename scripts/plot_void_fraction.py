@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Void fraction contours of a run: the time-averaged void fraction 1 - <eps_s> on the particle grid (analysis.h5)
 beside one snapshot's (the gas's void fraction when the gas is on, otherwise the snapshot's particles binned on the
-particle grid). 3D fields are averaged over the depth.
+particle grid). 3D fields are averaged over the depth. The plot shows the bed and a margin above it (--ymax sets the top).
 
-    scripts/plot_void_fraction.py output/run void.png [--snapshot N]"""
+    scripts/plot_void_fraction.py output/run void.png [--snapshot N] [--ymax 0.15]"""
 
 import fbplot as fp
 import matplotlib.pyplot as plt
@@ -13,6 +13,7 @@ def main():
     ap = fp.parser(__doc__)
     ap.add_argument("--snapshot", type=int, default=-1, help="snapshot number (default: the last)")
     ap.add_argument("--vmin", type=float, default=0.3, help="lower end of the colour scale (default 0.3)")
+    fp.add_ymax_option(ap)
     args = ap.parse_args()
 
     a = fp.read_analysis(args.run)
@@ -32,6 +33,9 @@ def main():
     axes[0].set_title("time average, %.4g-%.4g s (%d samples)" % (t0, t1, int(a["measures/samples"][0])))
     fp.field_image(axes[1], snap, lo, hi, "void fraction", vmin=args.vmin, vmax=1.0)
     axes[1].set_title("t = %.4g s (%s)" % (time, source))
+    top = fp.plot_top(args.ymax, fp.depth_mean(a["fields/solid_fraction"], dim), lo, hi)
+    for ax in axes:
+        ax.set_ylim(lo[1] * fp.MM, top * fp.MM)
     fp.save(fig, args.output)
 
 
