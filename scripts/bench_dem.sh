@@ -18,7 +18,7 @@ if [[ ! -f $BENCH/settled.csv ]]; then
   mpiexec --oversubscribe -n 2 "$EXE" -options_file $SCENE -output_dir "$BENCH/settle" -progress_interval 60
   cp "$BENCH/settle/particles.csv" "$BENCH/settled.csv"
 fi
-echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores"
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(env -u OMP_NUM_THREADS nproc) cores"
 printf "%-6s %-10s %-8s %-12s %-26s %s\n" ranks particles steps wall_s particle-steps/s/rank "contact / integrate / ghosts / neighbour+migrate (s)"
 for np in 1 2; do
   out=$BENCH/np$np

@@ -5,6 +5,8 @@ set -euo pipefail
 
 FLUIDBED_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 FLUIDBED_BUILD_DIR=${FLUIDBED_BUILD_DIR:-$FLUIDBED_ROOT/build}
+# Cores for make and ctest: nproc counts OMP_NUM_THREADS (set to 1 below for hypre), so ask it without.
+FLUIDBED_JOBS=${FLUIDBED_JOBS:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)}
 FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
                    cmake make g++ pkg-config)
 
@@ -24,7 +26,7 @@ fluidbed_install_packages() {
 
 fluidbed_build() {
   cmake -S "$FLUIDBED_ROOT" -B "$FLUIDBED_BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$FLUIDBED_BUILD_DIR" -j "$(nproc)"
+  cmake --build "$FLUIDBED_BUILD_DIR" -j "$FLUIDBED_JOBS"
 }
 
 # Open MPI refuses to run as root without these; CI machines and containers often are root.

@@ -4,4 +4,4 @@
 set -euo pipefail
 source "$(dirname "$0")/setup.sh"
 cd "$FLUIDBED_BUILD_DIR"
-exec ctest --output-on-failure -j "$(nproc)" "$@"
+exec ctest --output-on-failure -j "$FLUIDBED_JOBS" "$@"

@@ -24,7 +24,7 @@ opts=$FLUIDBED_ROOT/examples/$scene.opts
 [[ -f $opts ]] || { echo "validate.sh: no scene $opts" >&2; exit 2; }
 out=${FLUIDBED_VALIDATION_DIR:-$FLUIDBED_ROOT/bench/validation}/$scene
 mkdir -p "$out/plots"
-echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores; $ranks rank(s)" | tee "$out/machine.txt"
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(env -u OMP_NUM_THREADS nproc) cores; $ranks rank(s)" | tee "$out/machine.txt"
 cmd=(mpiexec --oversubscribe -n "$ranks" "$FLUIDBED_EXE" -options_file "$opts" -output_dir "$out" -progress_interval 300
      -log_view ascii:"$out/log_view.txt" "$@")
 echo "${cmd[*]}" | tee "$out/command.txt"
