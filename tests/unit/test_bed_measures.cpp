@@ -174,8 +174,8 @@ TEST(Pressure, DropBetweenHeights)
   std::vector<double> p(10);
   for (int j = 0; j < 10; ++j) p[j] = 1000.0 - 5e4 * layer_centre_height(g, j);
   EXPECT_NEAR(pressure_drop(g, p, 0.0023, 0.0078), 275.0, 1e-9);
-  // beyond the first and last centres the profile is held constant: the drop across the whole grid is
-  // p(0.5 mm) - p(9.5 mm)
-  EXPECT_NEAR(pressure_drop(g, p, 0.0, 0.010), 450.0, 1e-9);
+  // the outer half layers continue the line of the nearest centres: the drop across the whole grid, from the
+  // distributor to the top, is the linear profile's 5e4 x 10 mm
+  EXPECT_NEAR(pressure_drop(g, p, 0.0, 0.010), 500.0, 1e-9);
   EXPECT_NEAR(bed_weight_pressure_drop(0.1, 9.81, 0.0564 * 0.00495), 0.981 / (0.0564 * 0.00495), 1e-9);
 }

@@ -352,12 +352,16 @@ TEST(Profiles, CrossSectionHorizontalVerticalAndInterpolation)
   const auto vp = vertical_profile(g, 0.0025, field); // column 2
   ASSERT_EQ(vp.size(), 5u);
   for (int j = 0; j < 5; ++j) EXPECT_NEAR(vp[j], 2 + 10.0 * j + 100.0, 1e-12);
-  // linear between layer centres (1, 3, 5, 7, 9 mm), constant outside
+  // linear between layer centres (1, 3, 5, 7, 9 mm); in the outer half layers the line of the two nearest centres,
+  // held at the faces (0 and 10 mm) beyond the grid
   const std::vector<double> prof{0, 10, 20, 40, 80};
   EXPECT_NEAR(interpolate_profile(g, prof, 0.004), 15.0, 1e-12);
   EXPECT_NEAR(interpolate_profile(g, prof, 0.0065), 35.0, 1e-12);
-  EXPECT_EQ(interpolate_profile(g, prof, 0.0005), 0.0);
-  EXPECT_EQ(interpolate_profile(g, prof, 0.0100), 80.0);
+  EXPECT_NEAR(interpolate_profile(g, prof, 0.0005), -2.5, 1e-12);
+  EXPECT_NEAR(interpolate_profile(g, prof, 0.0100), 100.0, 1e-12);
+  EXPECT_NEAR(interpolate_profile(g, prof, -0.003), -5.0, 1e-12);
+  EXPECT_NEAR(interpolate_profile(g, prof, 0.0150), 100.0, 1e-12);
+  EXPECT_EQ(interpolate_profile(g, std::vector<double>{7.0}, 0.004), 7.0);
   // in 2D the horizontal profile is the layer itself
   const CellGrid g2 = cell_grid(2, {0, 0, 0}, {0.004, 0.010, 0.001}, 4, 5);
   const auto     h2 = horizontal_profile(g2, 0.009, [&](long c) { return double(c); });

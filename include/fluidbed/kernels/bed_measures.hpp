@@ -227,7 +227,8 @@ inline double diffusive_power(const CellGrid &g, double rho_p, const CellMeans *
 
 // Pressure drop between two heights above the grid bottom, p(low) - p(high), from a cross-section-averaged
 // pressure profile (n_y values at the layer centres, e.g. cross_section_profile of the gas pressure), linear
-// between layer centres and constant beyond the first and last (seed Fig. 3.2: the net drop across the bed).
+// between layer centres and continued linearly over the outer half layers (interpolate_profile), so that the drop
+// from the distributor (height 0) includes the lowest half layer (seed Fig. 3.2: the net drop across the bed).
 inline double pressure_drop(const CellGrid &g, const std::vector<double> &pressure_profile, double low, double high)
 {
   return interpolate_profile(g, pressure_profile, low) - interpolate_profile(g, pressure_profile, high);

@@ -311,14 +311,17 @@ std::vector<double> vertical_profile(const CellGrid &g, double x, Field field)
   return p;
 }
 
-// Value of a per-layer profile (n_y values at the layer centres) at a height above the grid bottom, linear between
-// centres and constant beyond the first and last centre.
+// Value of a per-layer profile (n_y values at the layer centres) at a height above the grid bottom: linear between
+// centres, and in the half layers beyond the first and last centres the line through the two nearest centres (so
+// that the pressure at the distributor or at the outlet carries the gradient of the layers next to it, rather than
+// the value half a cell away); heights outside the grid take the value at its bottom or top face.
 inline double interpolate_profile(const CellGrid &g, const std::vector<double> &profile, double height)
 {
-  const double s = height / g.h[1] - 0.5; // position in units of layers, 0 at the first centre
-  if (!(s > 0.0)) return profile.front();
-  if (s >= static_cast<double>(profile.size() - 1)) return profile.back();
-  const std::size_t j = static_cast<std::size_t>(std::floor(s));
+  const std::size_t n = profile.size();
+  if (n < 2) return profile.front();
+  // position in layers above the first centre, held to the grid: -0.5 at its bottom face, n - 0.5 at its top face
+  const double      s = std::min(std::max(height / g.h[1] - 0.5, -0.5), static_cast<double>(n) - 0.5);
+  const std::size_t j = s <= 0.0 ? 0 : std::min(static_cast<std::size_t>(std::floor(s)), n - 2);
   const double      w = s - static_cast<double>(j);
   return (1.0 - w) * profile[j] + w * profile[j + 1];
 }
