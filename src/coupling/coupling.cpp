@@ -47,6 +47,7 @@ struct Coupling {
   std::vector<PetscInt>   order;                   // the particles by cell, then id: the summation order of the deposits
   std::vector<PetscInt>   by_id;                   // the particles by id (valid while the swarm's storage order is unchanged)
   std::vector<PetscInt>   order_local, cell_start; // DepositOrder's scratch: cells in the ghosted block, counts
+  std::vector<PetscReal>  volume;                  // per particle (storage order): its volume at the last deposit
   CouplingStats           stats;
 };
 
@@ -138,6 +139,7 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ContactBody
   PetscCall(DMDAGetGhostCorners(c->da, &gs[0], &gs[1], &gs[2], &gm[0], &gm[1], &gm[2]));
   if (c->dim == 2) gs[2] = 0, gm[2] = 1;
   c->order_cell.resize(n);
+  c->volume.resize(n);
   c->order.resize(n);
   c->cell_start.assign((std::size_t)(gm[0] * gm[1] * gm[2] + 1), 0);
   std::vector<PetscInt> &local = c->order_local;
@@ -148,6 +150,7 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ContactBody
     for (int d = 0; d < 3; ++d)
       PetscCheck(cell[d] >= gs[d] && cell[d] < gs[d] + gm[d], PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
     c->order_cell[p] = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
+    c->volume[p]     = (4.0 / 3.0) * PETSC_PI * bodies[p].r * bodies[p].r * bodies[p].r;
     local[p]         = (cell[0] - gs[0]) + gm[0] * ((cell[1] - gs[1]) + gm[1] * (cell[2] - gs[2]));
     c->cell_start[(std::size_t)local[p] + 1]++;
   }
@@ -165,7 +168,7 @@ inline void CellIjk(const Coupling *c, PetscInt64 flat, PetscInt cell[3])
 
 // The coupling cell's void fraction (eq. 5.2-5.3) at the particles' current positions: solid volumes summed (in the
 // DepositOrder) with halos added to their owners, then the owned cells' eps, then halos.
-PetscErrorCode DepositVoidFraction(Coupling *c, const ContactBody *bodies)
+PetscErrorCode DepositVoidFraction(Coupling *c)
 {
   CellView dep, d, g;
 
@@ -175,8 +178,7 @@ PetscErrorCode DepositVoidFraction(Coupling *c, const ContactBody *bodies)
   for (PetscInt p : c->order) {
     PetscInt cell[3];
     CellIjk(c, c->order_cell[p], cell);
-    PetscCheck(dep.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
-    dep(cell[0], cell[1], cell[2], 0) += (4.0 / 3.0) * PETSC_PI * bodies[p].r * bodies[p].r * bodies[p].r;
+    dep(cell[0], cell[1], cell[2], 0) += c->volume[p];
   }
   PetscCall(ViewRestore(c->deposit_loc, &dep));
   PetscCall(VecZeroEntries(c->deposit));
@@ -246,14 +248,15 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
 
   if (c->until_gas <= 1) {
     PetscCall(DepositOrder(c, swarm, n, bodies));
-    PetscCall(DepositVoidFraction(c, bodies));
+    PetscCall(DepositVoidFraction(c));
     PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
     PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
     PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
     PetscCall(VecZeroEntries(c->deposit_loc));
     PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
     PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
-    for (PetscInt p : c->order) {
+    // each particle's linearised drag, in storage order (the particles' data are read in the order they are stored)
+    for (PetscInt p = 0; p < n; ++p) {
       const ContactBody &bp = bodies[p];
       PetscInt           cell[3];
       CellIjk(c, c->order_cell[p], cell);
@@ -263,14 +266,16 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
       // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
       const PetscReal K =
         c->drag(kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) / (c->divide_eps ? eps : 1.0);
-      const PetscReal Vp = (4.0 / 3.0) * PETSC_PI * bp.r * bp.r * bp.r;
-      a[p]               = Vp * K;
-      cells[p]           = c->order_cell[p];
+      a[p]     = c->volume[p] * K;
+      cells[p] = c->order_cell[p];
+      for (PetscInt d = 0; d < 3; ++d) b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;
+    }
+    // their sums per cell (eq. 2.21, 5.1), in the deposit order
+    for (PetscInt p : c->order) {
+      PetscInt cell[3];
+      CellIjk(c, c->order_cell[p], cell);
       dep(cell[0], cell[1], cell[2], 1) += a[p];
-      for (PetscInt d = 0; d < 3; ++d) {
-        b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;
-        if (d < c->dim) dep(cell[0], cell[1], cell[2], 2 + d) += b[3 * p + d];
-      }
+      for (PetscInt d = 0; d < c->dim; ++d) dep(cell[0], cell[1], cell[2], 2 + d) += b[3 * p + d];
     }
     PetscCall(ViewRestore(c->gas_loc, &gas));
     PetscCall(ViewRestore(c->deposit_loc, &dep));
