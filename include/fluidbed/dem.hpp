@@ -1,10 +1,12 @@
 // Soft-sphere DEM on the DMSwarm (seed chapter 2): contact parameters, neighbour lists, ghost particles,
 // migration and the velocity-Verlet step.
 //
-// Decomposition independence: each particle sums its contact forces itself (a full neighbour list, every pair
-// evaluated from both sides by a kernel that is exactly antisymmetric), walls first and then partners in
-// increasing id, so forces, and hence trajectories, are the same bit for bit on any number of ranks and do not
-// depend on when neighbour lists are rebuilt. Periodic directions use the minimum-image separation.
+// Decomposition independence: each particle sums its contact forces itself (a full neighbour list; a pair of local
+// particles is evaluated once, from the smaller id, and the partner takes the negated force, which is what its own
+// evaluation would give since the kernel is exactly antisymmetric; a pair with a ghost is evaluated on each side),
+// walls first and then partners in increasing id, so forces, and hence trajectories, are the same bit for bit on
+// any number of ranks and do not depend on when neighbour lists are rebuilt. Periodic directions use the
+// minimum-image separation.
 #pragma once
 
 #include <petscdmswarm.h>
@@ -44,22 +46,56 @@ struct ContactBody {
   double        r, m;
 };
 
-// Verlet neighbour list: for each local particle, the bodies within r_i + r_j + skin, sorted by id.
-struct NeighbourEntry {
-  PetscInt  partner;   // body index
-  PetscInt  slot;      // history slot of the contact, -1 when not in contact
-  PetscReal sqrt_meff; // sqrt of the pair's effective mass, constant for the pair
-  PetscInt  mirror;    // the partner's entry for this pair when the partner is local, else -1
+// One contact's history between steps: xi_t (3), the overlap and the normal dashpot force of the previous step.
+struct PairHistory {
+  kernels::Vec3 xi;
+  PetscReal     overlap = 0, damping = 0;
+};
+
+// A listed pair as the particle that evaluates it sees it: the smaller id of two local particles, or the local
+// one of a pair with a ghost. Between syncs (DemSyncPairHistory) hist is the authoritative copy of that
+// particle's history slot; the swarm's slots are brought up to date before particles migrate or are written.
+struct ContactPair {
+  PetscInt    partner;      // body index
+  PetscInt    slot;         // the evaluating particle's history slot, -1 when not in contact
+  PetscInt    partner_slot; // a local partner's slot for the pair (its copy from the last sync), else -1
+  PetscInt    out;          // where the force loop leaves the pair's contribution (Dem::contributions)
+  PetscReal   sqrt_meff;    // sqrt of the pair's effective mass, constant for the pair
+  PairHistory hist;         // the slot's history; meaningful while slot >= 0
 };
 // What one listed pair adds to its particle this step: the contact force, n x f_t (the torque is r n x f_t) and
-// the dashpot impulse correction; zero when the pair is apart.
+// the dashpot impulse correction, as seen from the evaluating particle; zero when the pair is apart.
 struct ContactContribution {
   kernels::Vec3 force, n_cross_ft, impulse;
 };
 
+// A wall the particle may touch before the next rebuild (within r + skin of it at the rebuild, or holding a
+// history slot for it), with that slot's history as ContactPair keeps a pair's.
+struct WallContact {
+  PetscInt    face;
+  PetscInt    slot; // the particle's history slot for the wall, -1 when not in contact
+  PairHistory hist;
+};
+
+// Verlet neighbour list. Full: for each local particle, the bodies within r_i + r_j + skin sorted by id, each
+// entry naming where its pair's contribution is left (2 out: the pair is evaluated by this particle, 2 out + 1: by
+// the partner, and the contribution is mirrored). Half: the pairs each local particle evaluates, in the order of
+// its entries. Walls: the walls each local particle may touch, in face order. The force loop evaluates the
+// particles' pairs in storage order and sums each particle as soon as all its pairs are evaluated: after the
+// pairs of particle i, the particles finish[finish_start[i]] .. finish[finish_start[i + 1] - 1]. Most
+// contributions are read soon after they are written, so they share a ring of kContributionRing places, which
+// stays in cache; the pairs whose contributions are read later than that have places of their own after it.
+constexpr PetscInt kContributionRing = 8192; // a power of 2
 struct NeighbourList {
-  std::vector<PetscInt>       start; // nlocal + 1 offsets
-  std::vector<NeighbourEntry> entries;
+  std::vector<PetscInt>    start;      // nlocal + 1 offsets into entries
+  std::vector<PetscInt>    entries;    // 2 out + (1 if the partner evaluates the pair)
+  std::vector<PetscInt>    pair_start; // nlocal + 1 offsets into pairs
+  std::vector<ContactPair> pairs;
+  std::vector<PetscInt>    wall_start; // nlocal + 1 offsets into walls
+  std::vector<WallContact> walls;
+  std::vector<PetscInt>    finish_start; // nlocal + 1 offsets into finish
+  std::vector<PetscInt>    finish;
+  PetscInt                 ncontrib = 0; // places for contributions: the ring, then those of their own
 };
 
 // Ghost particles of the 26 (3D) or 8 (2D) neighbouring subdomains, periodic images included. Built at each
@@ -98,12 +134,10 @@ struct Dem {
   PetscReal                        body_force_factor = 1.0; // gravity scale: 1 - rho_g / rho_p with buoyancy (Model B)
   std::vector<ContactBody>         bodies;
   std::vector<PetscInt64>          body_id;
-  std::vector<PetscReal>           x_ref;     // positions at the last rebuild, 3 per local particle
-  std::vector<PetscReal>           impulse;   // dashpot impulse corrections of this step, 3 per local particle (N s)
-  std::vector<unsigned char>       wall_mask; // bit f set: the particle holds a history slot for wall f
+  std::vector<PetscReal>           x_ref;   // positions at the last rebuild, 3 per local particle
+  std::vector<PetscReal>           impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
   NeighbourList                    nl;
-  std::vector<ContactContribution> contributions;       // per neighbour entry, this step
-  std::vector<unsigned char>       contribution_active; // the entry's contribution is set (the pair touched)
+  std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); zero when the pair is apart
   GhostExchange                    ghosts;
   DemStats                         stats;
   DemExternalForce                 external     = nullptr;
@@ -133,8 +167,9 @@ PetscErrorCode DemGhostsUpdate(Dem *dem);
 PetscErrorCode DemGhostsDestroy(GhostExchange *gx);
 PetscErrorCode DemNeighbourBuild(Dem *dem);
 PetscErrorCode DemContactForces(Dem *dem);
-// Between rebuilds only the smaller-id side of a local pair keeps its history current; this copies it
-// (negated) to the partner. Called before particles migrate and before a checkpoint.
+// Between rebuilds a pair's history is kept in the neighbour list (nl.pairs) from the evaluating side; this stores
+// it in that particle's swarm slot and (negated) in a local partner's. Called before particles migrate and before
+// a checkpoint.
 PetscErrorCode DemSyncPairHistory(Dem *dem);
 PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild);
 PetscErrorCode DemKick(Dem *dem);

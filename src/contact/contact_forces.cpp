@@ -1,6 +1,12 @@
 // Contact forces and torques on the local particles (seed eq. 2.3-2.10) plus gravity: gets the swarm fields,
 // loops over walls and neighbour lists, calls the kernel, restores. Each particle sums walls first (in face
 // order) and then partners in increasing id, so the result does not depend on the decomposition.
+//
+// One sweep over the particles in storage order: each evaluates the pairs it holds in the half list (their
+// histories are kept there, next to the list, between rebuilds), and every particle whose pairs are then all
+// evaluated sums its walls and contributions (dem.hpp, NeighbourList). The swarm's history slots are taken and
+// freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
+// the checkpoints written from them are unchanged too.
 #include "fluidbed/dem.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
@@ -12,11 +18,7 @@ using kernels::Vec3;
 
 namespace {
 
-// One history slot: xi_t (3), overlap of the previous step, normal dashpot force of the previous step.
-struct SlotHistory {
-  Vec3      xi;
-  PetscReal overlap = 0, damping = 0;
-};
+using SlotHistory = PairHistory;
 
 inline PetscReal *SlotPtr(const ParticleArrays &p, PetscInt i, PetscInt s)
 {
@@ -57,13 +59,6 @@ PetscErrorCode AllocSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key, Pe
   }
 }
 
-PetscInt FindSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key)
-{
-  for (PetscInt s = 0; s < p.K; ++s)
-    if (p.ckey[p.K * i + s] == key) return s;
-  return -1;
-}
-
 struct WallFace {
   int       face, axis;
   PetscReal plane; // coordinate of the wall
@@ -71,12 +66,9 @@ struct WallFace {
 };
 
 // What one contact adds to body i: force, n x f_t (the torque on i is r_i n x f_t, on j r_j n x f_t), and the
-// dashpot impulse correction. Seen from j the contribution is Mirror(c), bit for bit what j would compute.
+// dashpot impulse correction. Seen from j the contribution is {-force, n x f_t, -impulse}, bit for bit what j
+// would compute.
 using Contribution = ContactContribution;
-inline Contribution Mirror(const Contribution &c)
-{
-  return {-c.force, c.n_cross_ft, -c.impulse};
-}
 inline SlotHistory Mirror(const SlotHistory &h)
 {
   return {-h.xi, h.overlap, h.damping};
@@ -115,6 +107,143 @@ struct Sums {
   }
 };
 
+// The state of one force evaluation, shared by the per-particle steps below.
+struct ForceLoop {
+  Dem               *dem;
+  NeighbourList     *nl;
+  ParticleArrays     p;
+  PetscInt           nlocal;
+  PetscReal          dt;
+  bool               periodic;
+  PetscReal          period[3];
+  Vec3               g;
+  const WallFace    *wall_of_face; // indexed by face
+  Contribution      *contrib;      // per pair, at ContactPair::out
+  const ContactBody *bodies;
+  PetscInt           npairs;
+  PetscInt64         contacts;
+  PetscReal          max_rel;
+};
+
+constexpr PetscInt  kPrefetchPairs = 8;
+constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
+
+// Evaluates the pairs particle i holds in the half list (the smaller id of two local particles, the local side
+// of a pair with a ghost). The pair's history lives in the list; the swarm's slots are taken and freed here as
+// contacts begin and end (DemSyncPairHistory stores the histories in them before particles move).
+[[gnu::always_inline]] inline PetscErrorCode EvaluatePairs(ForceLoop &L, PetscInt i)
+{
+  const ContactBody       &bi     = L.bodies[i];
+  const PetscInt           nlocal = L.nlocal;
+  const PetscReal          dt     = L.dt;
+  const kernels::LsdModel &pp     = L.dem->par.pp;
+  const PetscInt           q0 = L.nl->pair_start[(std::size_t)i], q1 = L.nl->pair_start[(std::size_t)i + 1];
+  ContactPair             *pairs = L.nl->pairs.data();
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = q0; q < q1; ++q) {
+    if (q + kPrefetchPairs < L.npairs) { // the partner of a pair a few ahead: its body is a likely cache miss
+      const char *b = reinterpret_cast<const char *>(&L.bodies[pairs[q + kPrefetchPairs].partner]);
+      __builtin_prefetch(b);
+      __builtin_prefetch(b + sizeof(ContactBody) - 1);
+    }
+    ContactPair       &pr      = pairs[q];
+    const PetscInt     j       = pr.partner;
+    const bool         j_local = j < nlocal;
+    const ContactBody &bj      = L.bodies[j];
+    Vec3               d       = bj.x - bi.x;
+    if (L.periodic) {
+      d.x = kernels::min_image(d.x, L.period[0]);
+      d.y = kernels::min_image(d.y, L.period[1]);
+      d.z = kernels::min_image(d.z, L.period[2]);
+    }
+    const PetscReal dist2 = kernels::norm2(d);
+    const PetscReal rsum  = bi.r + bj.r;
+    Contribution    c; // zero unless the pair touched
+    if (dist2 < rsum * rsum) {
+      if (pr.slot < 0) {
+        PetscCall(AllocSlot(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
+        pr.hist = SlotHistory{};
+      }
+      const kernels::ContactKinematics kin =
+        kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, pr.sqrt_meff);
+      c = Evaluate(pp, kin, dt, pr.hist);
+      L.contacts += j_local ? 2 : 1;
+      L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
+    } else if (pr.slot >= 0) {
+      c = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, pr.hist);
+      FreeSlot(L.p, i, pr.slot);
+      pr.slot = -1;
+      // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more
+      // slots than it has contacts
+      if (pr.partner_slot >= 0) {
+        FreeSlot(L.p, j, pr.partner_slot);
+        pr.partner_slot = -1;
+      }
+    }
+    L.contrib[pr.out] = c;
+  }
+  PetscFunctionReturn(0);
+}
+
+// Particle i's force, torque and impulse correction: walls (in face order), then its pairs in increasing partner
+// id, then gravity. All its pairs have been evaluated.
+[[gnu::always_inline]] inline PetscErrorCode SumParticle(ForceLoop &L, PetscInt i)
+{
+  const ContactBody &bi = L.bodies[i];
+  const PetscReal    dt = L.dt;
+  NeighbourList     &nl = *L.nl;
+  Sums               sum;
+
+  PetscFunctionBeginUser;
+  // The walls of the particle's list: the others were more than r + skin away at the last rebuild, and no particle
+  // moves half the skin before the next (DemKickDrift).
+  for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
+    WallContact    &wc  = nl.walls[(std::size_t)k];
+    const WallFace &w   = L.wall_of_face[wc.face];
+    const PetscReal xa  = (&bi.x.x)[w.axis];
+    const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
+    if (gap < bi.r) {
+      if (wc.slot < 0) {
+        PetscCall(AllocSlot(L.p, i, WallKey(w.face), &wc.slot));
+        wc.hist = SlotHistory{};
+      }
+      const kernels::ContactKinematics kin = kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m);
+      sum.Add(Evaluate(L.dem->par.pw, kin, dt, wc.hist), bi.r);
+      L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * bi.r));
+      ++L.contacts;
+    } else if (wc.slot >= 0) {
+      sum.Add(EndContribution(L.dem->par.pw, PetscSqrtReal(bi.m), w.n, dt, wc.hist), bi.r);
+      FreeSlot(L.p, i, wc.slot);
+      wc.slot = -1;
+    }
+  }
+  // Pairs apart add a zero contribution. The sums start at +0 and, with round-to-nearest, a sum is -0 only when
+  // both terms are, so they never become -0: adding a zero (of either sign) leaves them unchanged bit for bit,
+  // as if the pair were skipped. A pair evaluated by the partner adds {-force, n x f_t, -impulse}: -1 * x is -x.
+  for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
+    const PetscInt      code = nl.entries[(std::size_t)e];
+    const Contribution &c    = L.contrib[code / 2];
+    const PetscReal     s    = kSign[code % 2];
+    sum.F += s * c.force;
+    sum.T += bi.r * c.n_cross_ft;
+    sum.J += s * c.impulse;
+  }
+
+  sum.F += bi.m * L.g; // gravity, reduced by buoyancy when the gas is on (eq. 2.1)
+  PetscReal *f = &L.p.f[3 * i], *t = &L.p.t[3 * i], *J = &L.dem->impulse[3 * (std::size_t)i];
+  f[0] = sum.F.x;
+  f[1] = sum.F.y;
+  f[2] = sum.F.z;
+  t[0] = sum.T.x;
+  t[1] = sum.T.y;
+  t[2] = sum.T.z;
+  J[0] = sum.J.x;
+  J[1] = sum.J.y;
+  J[2] = sum.J.z;
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode DemSyncPairHistory(Dem *dem)
@@ -128,17 +257,21 @@ PetscErrorCode DemSyncPairHistory(Dem *dem)
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   for (PetscInt i = 0; i < nlocal; ++i) {
     const PetscInt64 id = dem->body_id[(std::size_t)i];
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      NeighbourEntry &ne = nl.entries[(std::size_t)e];
-      const PetscInt  j  = ne.partner;
-      if (j >= nlocal || dem->body_id[(std::size_t)j] < id) continue; // not a local pair evaluated from i's side
-      NeighbourEntry &me = nl.entries[(std::size_t)ne.mirror];
-      if (ne.slot >= 0) {
-        if (me.slot < 0) PetscCall(AllocSlot(p, j, id, &me.slot));
-        StoreSlot(p, j, me.slot, Mirror(LoadSlot(p, i, ne.slot)));
-      } else if (me.slot >= 0) {
-        FreeSlot(p, j, me.slot);
-        me.slot = -1;
+    for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
+      const WallContact &wc = nl.walls[(std::size_t)k];
+      if (wc.slot >= 0) StoreSlot(p, i, wc.slot, wc.hist);
+    }
+    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
+      ContactPair   &pr = nl.pairs[(std::size_t)q];
+      const PetscInt j  = pr.partner;
+      if (pr.slot >= 0) StoreSlot(p, i, pr.slot, pr.hist);
+      if (j >= nlocal) continue; // a ghost partner: its owner keeps its own side
+      if (pr.slot >= 0) {
+        if (pr.partner_slot < 0) PetscCall(AllocSlot(p, j, id, &pr.partner_slot));
+        StoreSlot(p, j, pr.partner_slot, Mirror(pr.hist));
+      } else if (pr.partner_slot >= 0) {
+        FreeSlot(p, j, pr.partner_slot);
+        pr.partner_slot = -1;
       }
     }
   }
@@ -148,140 +281,47 @@ PetscErrorCode DemSyncPairHistory(Dem *dem)
 
 PetscErrorCode DemContactForces(Dem *dem)
 {
-  const Domain    &dom       = *dem->dom;
-  const DemParams &par       = dem->par;
-  const PetscReal  dt        = par.dt;
-  const PetscInt   nlocal    = (PetscInt)dem->bodies.size() - dem->ghosts.n;
-  const PetscReal  period[3] = {dom.periodic[0] ? dom.len[0] : 0.0, dom.periodic[1] ? dom.len[1] : 0.0, dom.periodic[2] ? dom.len[2] : 0.0};
-  const bool       periodic  = dom.periodic[0] || dom.periodic[1] || dom.periodic[2];
-  const Vec3       g         = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
-  NeighbourList   &nl        = dem->nl;
-  auto            &contrib   = dem->contributions;
-  ParticleArrays   p;
-  WallFace         walls[FACE_COUNT];
-  int              nwalls   = 0;
-  PetscInt64       contacts = 0;
-  PetscReal        max_rel  = dem->stats.max_overlap_rel;
+  const Domain  &dom    = *dem->dom;
+  NeighbourList &nl     = dem->nl;
+  const PetscInt nlocal = (PetscInt)dem->bodies.size() - dem->ghosts.n;
+  WallFace       wall_of_face[FACE_COUNT];
+  ForceLoop      L;
 
   PetscFunctionBeginUser;
-  for (int f = 0; f < 2 * dom.dim; ++f) {
-    if (!dom.IsParticleWall(f)) continue;
+  for (int f = 0; f < FACE_COUNT; ++f) {
     const int a = f / 2;
     Vec3      n;
     (&n.x)[a]       = (f % 2) ? 1.0 : -1.0;
-    walls[nwalls++] = {f, a, (f % 2) ? dom.hi[a] : dom.lo[a], n};
+    wall_of_face[f] = {f, a, (f % 2) ? dom.hi[a] : dom.lo[a], n};
   }
-  dem->impulse.assign(3 * (std::size_t)nlocal, 0.0);
-  contrib.resize(nl.entries.size());
-  dem->contribution_active.resize(nl.entries.size());
+  dem->impulse.resize(3 * (std::size_t)nlocal); // every entry is set below
+  dem->contributions.resize((std::size_t)nl.ncontrib);
+  L.dem      = dem;
+  L.nl       = &nl;
+  L.nlocal   = nlocal;
+  L.dt       = dem->par.dt;
+  L.periodic = dom.periodic[0] || dom.periodic[1] || dom.periodic[2];
+  for (int a = 0; a < 3; ++a) L.period[a] = dom.periodic[a] ? dom.len[a] : 0.0;
+  L.g            = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
+  L.wall_of_face = wall_of_face;
+  L.contrib      = dem->contributions.data();
+  L.bodies       = dem->bodies.data();
+  L.npairs       = (PetscInt)nl.pairs.size();
+  L.contacts     = 0;
+  L.max_rel      = dem->stats.max_overlap_rel;
 
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
-  // Pass 1: each pair once. A pair of two local particles is evaluated from the side with the smaller id and its
-  // contribution mirrored into the partner's entry; only that side's history is kept up to date between
-  // rebuilds (DemSyncPairHistory copies it to the partner before particles move). A pair with a ghost is
-  // evaluated from the local side (the ghost's owner evaluates its own side). Every entry is written every step.
+  PetscCall(ParticleArraysGet(dem->swarm, &L.p));
+  // Each pair once, in the storage order of the particles that evaluate it; each particle summed right after
+  // the last of its pairs is evaluated. Its sums do not depend on when that is, and each particle's slots are
+  // taken and freed in the same order: by its pairs (in the order they are evaluated), then by its walls.
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &bi = dem->bodies[(std::size_t)i];
-    const PetscInt64   id = dem->body_id[(std::size_t)i];
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      NeighbourEntry &ne      = nl.entries[(std::size_t)e];
-      const PetscInt  j       = ne.partner;
-      const bool      j_local = j < nlocal;
-      if (j_local && dem->body_id[(std::size_t)j] < id) continue; // evaluated from j's side
-      const ContactBody &bj = dem->bodies[(std::size_t)j];
-      Vec3               d  = bj.x - bi.x;
-      if (periodic) {
-        d.x = kernels::min_image(d.x, period[0]);
-        d.y = kernels::min_image(d.y, period[1]);
-        d.z = kernels::min_image(d.z, period[2]);
-      }
-      const PetscReal dist2  = kernels::norm2(d);
-      const PetscReal rsum   = bi.r + bj.r;
-      unsigned char   active = 1;
-      Contribution    c;
-      if (dist2 < rsum * rsum) {
-        if (ne.slot < 0) PetscCall(AllocSlot(p, i, dem->body_id[(std::size_t)j], &ne.slot));
-        const kernels::ContactKinematics kin =
-          kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, ne.sqrt_meff);
-        SlotHistory h = LoadSlot(p, i, ne.slot);
-        c             = Evaluate(par.pp, kin, dt, h);
-        StoreSlot(p, i, ne.slot, h);
-        contacts += j_local ? 2 : 1;
-        max_rel = PetscMax(max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
-      } else if (ne.slot >= 0) {
-        c = EndContribution(par.pp, ne.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, LoadSlot(p, i, ne.slot));
-        FreeSlot(p, i, ne.slot);
-        ne.slot = -1;
-        // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more
-        // slots than it has contacts
-        if (j_local) {
-          NeighbourEntry &me = nl.entries[(std::size_t)ne.mirror];
-          if (me.slot >= 0) {
-            FreeSlot(p, j, me.slot);
-            me.slot = -1;
-          }
-        }
-      } else active = 0; // apart: the entry adds nothing and its contribution is not stored
-      dem->contribution_active[(std::size_t)e] = active;
-      if (active) contrib[(std::size_t)e] = c;
-      if (j_local) {
-        dem->contribution_active[(std::size_t)ne.mirror] = active;
-        if (active) contrib[(std::size_t)ne.mirror] = Mirror(c);
-      }
-    }
+    PetscCall(EvaluatePairs(L, i));
+    for (PetscInt k = nl.finish_start[(std::size_t)i]; k < nl.finish_start[(std::size_t)i + 1]; ++k)
+      PetscCall(SumParticle(L, nl.finish[(std::size_t)k]));
   }
-
-  // Pass 2: each particle sums walls (in face order), then its pairs in increasing partner id, then gravity.
-  for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &bi = dem->bodies[(std::size_t)i];
-    Sums               sum;
-
-    // One test decides whether this particle is near any wall or still holds a wall contact.
-    bool near_wall = dem->wall_mask[(std::size_t)i] != 0;
-    for (int k = 0; k < nwalls; ++k)
-      near_wall |= ((walls[k].face % 2) ? walls[k].plane - (&bi.x.x)[walls[k].axis] : (&bi.x.x)[walls[k].axis] - walls[k].plane) < bi.r;
-    for (int k = 0; k < nwalls && near_wall; ++k) {
-      const WallFace &w   = walls[k];
-      const PetscReal xa  = (&bi.x.x)[w.axis];
-      const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
-      const unsigned  bit = 1u << w.face;
-      if (gap < bi.r) {
-        PetscInt s;
-        if (dem->wall_mask[(std::size_t)i] & bit) s = FindSlot(p, i, WallKey(w.face));
-        else {
-          PetscCall(AllocSlot(p, i, WallKey(w.face), &s));
-          dem->wall_mask[(std::size_t)i] |= (unsigned char)bit;
-        }
-        const kernels::ContactKinematics kin = kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m);
-        SlotHistory                      h   = LoadSlot(p, i, s);
-        sum.Add(Evaluate(par.pw, kin, dt, h), bi.r);
-        StoreSlot(p, i, s, h);
-        max_rel = PetscMax(max_rel, kin.overlap / (2.0 * bi.r));
-        ++contacts;
-      } else if (dem->wall_mask[(std::size_t)i] & bit) {
-        const PetscInt s = FindSlot(p, i, WallKey(w.face));
-        sum.Add(EndContribution(par.pw, PetscSqrtReal(bi.m), w.n, dt, LoadSlot(p, i, s)), bi.r);
-        FreeSlot(p, i, s);
-        dem->wall_mask[(std::size_t)i] &= (unsigned char)~bit;
-      }
-    }
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e)
-      if (dem->contribution_active[(std::size_t)e]) sum.Add(contrib[(std::size_t)e], bi.r);
-
-    sum.F += bi.m * g; // gravity, reduced by buoyancy when the gas is on (eq. 2.1)
-    p.f[3 * i]                           = sum.F.x;
-    p.f[3 * i + 1]                       = sum.F.y;
-    p.f[3 * i + 2]                       = sum.F.z;
-    p.t[3 * i]                           = sum.T.x;
-    p.t[3 * i + 1]                       = sum.T.y;
-    p.t[3 * i + 2]                       = sum.T.z;
-    dem->impulse[3 * (std::size_t)i]     = sum.J.x;
-    dem->impulse[3 * (std::size_t)i + 1] = sum.J.y;
-    dem->impulse[3 * (std::size_t)i + 2] = sum.J.z;
-  }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
-  dem->stats.contacts        = contacts;
-  dem->stats.max_overlap_rel = max_rel;
+  PetscCall(ParticleArraysRestore(dem->swarm, &L.p));
+  dem->stats.contacts        = L.contacts;
+  dem->stats.max_overlap_rel = L.max_rel;
   if (dem->external) PetscCall(dem->external(dem->external_ctx, dem->swarm, dem->bodies.data()));
   PetscFunctionReturn(0);
 }

@@ -70,15 +70,21 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   for (PetscInt i = 0; i < nlocal; ++i) dem->body_id[(std::size_t)i] = p.id[i];
   for (PetscInt g = 0; g < dem->ghosts.n; ++g) dem->body_id[(std::size_t)(nlocal + g)] = dem->ghosts.id[(std::size_t)g];
 
+  // Full lists sorted by partner id; a particle's own pairs (ghost partners and local partners of larger id) are
+  // appended to the half list in the same order.
   nl.start.assign((std::size_t)nlocal + 1, 0);
+  nl.pair_start.assign((std::size_t)nlocal + 1, 0);
   nl.entries.clear();
-  const int zr = dim == 3 ? 1 : 0;
+  nl.pairs.clear();
+  std::vector<PetscInt> partner; // per entry
+  const int             zr = dim == 3 ? 1 : 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
     const kernels::Vec3 &xi = pos[(std::size_t)i];
     const PetscReal      ri = dem->bodies[(std::size_t)i].r;
+    const PetscInt64     id = dem->body_id[(std::size_t)i];
     PetscInt             c[3];
     bin_of(xi, c);
-    const std::size_t first = nl.entries.size();
+    const std::size_t first = partner.size();
     for (int oz = -zr; oz <= zr; ++oz) {
       const PetscInt cz = c[2] + oz;
       if (cz < 0 || cz >= nb[2]) continue;
@@ -93,55 +99,120 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
             const PetscInt j = bin_body[(std::size_t)q];
             if (j == i) continue;
             const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + skin;
-            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut)
-              nl.entries.push_back({j, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m), -1});
+            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut) partner.push_back(j);
           }
         }
       }
     }
-    std::sort(nl.entries.begin() + (std::ptrdiff_t)first, nl.entries.end(), [&](const NeighbourEntry &a, const NeighbourEntry &b) {
-      return dem->body_id[(std::size_t)a.partner] < dem->body_id[(std::size_t)b.partner];
-    });
-    nl.start[(std::size_t)i + 1] = (PetscInt)nl.entries.size();
+    std::sort(partner.begin() + (std::ptrdiff_t)first, partner.end(),
+              [&](PetscInt a, PetscInt b) { return dem->body_id[(std::size_t)a] < dem->body_id[(std::size_t)b]; });
+    for (std::size_t e = first; e < partner.size(); ++e) {
+      const PetscInt j = partner[e];
+      if (j < nlocal && dem->body_id[(std::size_t)j] < id) nl.entries.push_back(-1); // the partner's pair: linked below
+      else {
+        nl.entries.push_back(2 * (PetscInt)nl.pairs.size());
+        nl.pairs.push_back(
+          {j, -1, -1, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m), PairHistory{}});
+      }
+    }
+    nl.start[(std::size_t)i + 1]      = (PetscInt)nl.entries.size();
+    nl.pair_start[(std::size_t)i + 1] = (PetscInt)nl.pairs.size();
   }
 
-  // Each local pair appears in both particles' lists: link the two entries.
+  // Each local pair appears in both particles' lists: point the partner side's entry at the pair.
   for (PetscInt i = 0; i < nlocal; ++i)
     for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      const PetscInt j = nl.entries[(std::size_t)e].partner;
-      if (j >= nlocal) continue;
-      for (PetscInt f = nl.start[(std::size_t)j]; f < nl.start[(std::size_t)j + 1]; ++f)
-        if (nl.entries[(std::size_t)f].partner == i) {
-          nl.entries[(std::size_t)e].mirror = f;
+      if (nl.entries[(std::size_t)e] >= 0) continue;
+      const PetscInt j = partner[(std::size_t)e];
+      for (PetscInt q = nl.pair_start[(std::size_t)j]; q < nl.pair_start[(std::size_t)j + 1]; ++q)
+        if (nl.pairs[(std::size_t)q].partner == i) {
+          nl.entries[(std::size_t)e] = 2 * q + 1;
           break;
         }
-      PetscCheck(nl.entries[(std::size_t)e].mirror >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "neighbour lists are not symmetric");
+      PetscCheck(nl.entries[(std::size_t)e] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "neighbour lists are not symmetric");
     }
 
-  // Attach each listed pair to its history slot; free slots of partners no longer listed (they left the
-  // system or moved beyond the cutoff); record which walls hold slots.
+  // Attach each listed pair to its history slots (the pair's copy of the evaluating side's history is loaded from
+  // the slot); free slots of partners no longer listed (they left the system or moved beyond the cutoff); list
+  // the walls each particle holds a slot for or may reach before the next rebuild (it moves less than half the
+  // skin until then).
   const PetscInt K = p.K;
-  dem->wall_mask.assign((std::size_t)nlocal, 0);
+  nl.wall_start.assign((std::size_t)nlocal + 1, 0);
+  nl.walls.clear();
   std::vector<char> used((std::size_t)K);
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
     std::fill(used.begin(), used.end(), 0);
     for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      const PetscInt64 pid = dem->body_id[(std::size_t)nl.entries[(std::size_t)e].partner];
+      const PetscInt64 pid = dem->body_id[(std::size_t)partner[(std::size_t)e]];
+      const PetscInt   q   = nl.entries[(std::size_t)e] / 2;
       for (PetscInt s = 0; s < K; ++s)
         if (key[s] == pid) {
-          nl.entries[(std::size_t)e].slot = s;
-          used[(std::size_t)s]            = 1;
+          ContactPair &pr = nl.pairs[(std::size_t)q];
+          if (nl.entries[(std::size_t)e] % 2) pr.partner_slot = s;
+          else {
+            const PetscReal *h = &p.chist[kHistoryStride * (K * i + s)];
+            pr.slot            = s;
+            pr.hist            = {{h[0], h[1], h[2]}, h[3], h[4]};
+          }
+          used[(std::size_t)s] = 1;
           break;
         }
     }
+    PetscInt wall_slot[FACE_COUNT];
+    for (int f = 0; f < FACE_COUNT; ++f) wall_slot[f] = -1;
     for (PetscInt s = 0; s < K; ++s) {
-      if (key[s] <= -2) dem->wall_mask[(std::size_t)i] |= (unsigned char)(1u << (-2 - key[s]));
-      else if (key[s] >= 0 && !used[(std::size_t)s]) {
+      if (key[s] <= -2) {
+        if (-2 - key[s] < FACE_COUNT) wall_slot[-2 - key[s]] = s;
+      } else if (key[s] >= 0 && !used[(std::size_t)s]) {
         key[s] = kFreeSlot;
         for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = 0.0;
       }
     }
+    const ContactBody &b = dem->bodies[(std::size_t)i];
+    for (int f = 0; f < 2 * dim; ++f) {
+      if (!dom.IsParticleWall(f)) continue;
+      const int       a   = f / 2;
+      const PetscReal xa  = (&b.x.x)[a];
+      const PetscReal gap = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
+      if (wall_slot[f] < 0 && !(gap < b.r + skin)) continue;
+      WallContact w{f, wall_slot[f], PairHistory{}};
+      if (w.slot >= 0) {
+        const PetscReal *h = &p.chist[kHistoryStride * (K * i + w.slot)];
+        w.hist             = {{h[0], h[1], h[2]}, h[3], h[4]};
+      }
+      nl.walls.push_back(w);
+    }
+    nl.wall_start[(std::size_t)i + 1] = (PetscInt)nl.walls.size();
+  }
+
+  // Each particle is summed once the last of the partners that evaluate its pairs (in storage order) has
+  // evaluated them, while their contributions are still in cache.
+  {
+    std::vector<PetscInt> ready((std::size_t)nlocal);
+    nl.finish_start.assign((std::size_t)nlocal + 1, 0);
+    for (PetscInt i = 0; i < nlocal; ++i) {
+      PetscInt r = i;
+      for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e)
+        if (nl.entries[(std::size_t)e] % 2) r = PetscMax(r, partner[(std::size_t)e]);
+      ready[(std::size_t)i] = r;
+      nl.finish_start[(std::size_t)r + 1]++;
+    }
+    for (PetscInt i = 0; i < nlocal; ++i) nl.finish_start[(std::size_t)i + 1] += nl.finish_start[(std::size_t)i];
+    std::vector<PetscInt> fill(nl.finish_start.begin(), nl.finish_start.end() - 1);
+    nl.finish.resize((std::size_t)nlocal);
+    for (PetscInt i = 0; i < nlocal; ++i) nl.finish[(std::size_t)fill[(std::size_t)ready[(std::size_t)i]]++] = i;
+
+    // A pair's contribution is read by its particles once pair_start[ready + 1] pairs are evaluated; its place in
+    // the ring is taken again by pair q + kContributionRing.
+    nl.ncontrib = kContributionRing;
+    for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
+        ContactPair   &pr   = nl.pairs[(std::size_t)q];
+        const PetscInt last = PetscMax(ready[(std::size_t)i], pr.partner < nlocal ? ready[(std::size_t)pr.partner] : i);
+        pr.out              = nl.pair_start[(std::size_t)last + 1] <= q + kContributionRing ? q % kContributionRing : nl.ncontrib++;
+      }
+    for (PetscInt &c : nl.entries) c = 2 * nl.pairs[(std::size_t)(c / 2)].out + c % 2;
   }
   dem->x_ref.resize(3 * (std::size_t)nlocal);
   for (PetscInt i = 0; i < nlocal; ++i)

@@ -4,6 +4,8 @@
 #include "fluidbed/kernels/periodic.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 
+#include <limits>
+
 namespace fluidbed {
 
 using kernels::Vec3;
@@ -20,6 +22,24 @@ inline void Store3(PetscReal *a, PetscInt i, const Vec3 &v)
   a[3 * i + 1] = v.y;
   a[3 * i + 2] = v.z;
 }
+
+// A particle's mass and the inverses of its mass and moment of inertia, recomputed only when the diameter differs
+// from the previous particle's: a monodisperse bed computes them once per loop instead of dividing per particle.
+// The values are those of the expressions below whatever the order of the particles.
+struct MassTerms {
+  const ParticleProps &props;
+  PetscReal            d = std::numeric_limits<PetscReal>::quiet_NaN(); // never equal: the first call computes
+  PetscReal            m = 0, inv_m = 0, inv_I = 0;
+
+  void Set(PetscReal di)
+  {
+    if (di == d) return;
+    d     = di;
+    m     = props.Mass(di);
+    inv_m = 1.0 / m;
+    inv_I = 1.0 / kernels::sphere_inertia(m, di);
+  }
+};
 
 // Planar motion (2D grids or -dem_pseudo2d): no out-of-plane velocity, spin only about z.
 inline void ConstrainPlanar(Vec3 &v, Vec3 &w)
@@ -38,15 +58,16 @@ PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
   const PetscReal lim2   = 0.25 * dem->skin * dem->skin;
   ParticleArrays  p;
   PetscBool       rebuild = PETSC_FALSE;
+  MassTerms       mt{*dem->props};
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   const PetscInt dim = p.dim;
   for (PetscInt i = 0; i < p.n; ++i) {
-    const PetscReal m = dem->props->Mass(p.d[i]), inv_m = 1.0 / m, inv_I = 1.0 / kernels::sphere_inertia(m, p.d[i]);
-    Vec3            v = Load3(p.v, i), w = Load3(p.w, i);
-    kernels::kick(v, Load3(p.f, i), inv_m, h);
-    kernels::kick(w, Load3(p.t, i), inv_I, h);
+    mt.Set(p.d[i]);
+    Vec3 v = Load3(p.v, i), w = Load3(p.w, i);
+    kernels::kick(v, Load3(p.f, i), mt.inv_m, h);
+    kernels::kick(w, Load3(p.t, i), mt.inv_I, h);
     if (planar) ConstrainPlanar(v, w);
     Store3(p.v, i, v);
     Store3(p.w, i, w);
@@ -74,15 +95,16 @@ PetscErrorCode DemKick(Dem *dem)
   const PetscReal h      = 0.5 * dem->par.dt;
   const bool      planar = dem->dom->dim == 2 || dem->par.pseudo2d;
   ParticleArrays  p;
+  MassTerms       mt{*dem->props};
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   for (PetscInt i = 0; i < p.n; ++i) {
-    const PetscReal m = dem->props->Mass(p.d[i]);
-    Vec3            v = Load3(p.v, i), w = Load3(p.w, i);
-    kernels::kick(v, Load3(p.f, i), 1.0 / m, h);
-    v += (1.0 / m) * Load3(dem->impulse.data(), i); // exact dashpot impulse (kernels/contact_lsd.hpp)
-    kernels::kick(w, Load3(p.t, i), 1.0 / kernels::sphere_inertia(m, p.d[i]), h);
+    mt.Set(p.d[i]);
+    Vec3 v = Load3(p.v, i), w = Load3(p.w, i);
+    kernels::kick(v, Load3(p.f, i), mt.inv_m, h);
+    v += mt.inv_m * Load3(dem->impulse.data(), i); // exact dashpot impulse (kernels/contact_lsd.hpp)
+    kernels::kick(w, Load3(p.t, i), mt.inv_I, h);
     if (planar) ConstrainPlanar(v, w);
     Store3(p.v, i, v);
     Store3(p.w, i, w);
@@ -95,18 +117,19 @@ PetscErrorCode DemPackBodies(Dem *dem)
 {
   const PetscReal h = 0.5 * dem->par.dt;
   ParticleArrays  p;
+  MassTerms       mt{*dem->props};
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   dem->bodies.resize((std::size_t)(p.n + dem->ghosts.n));
   for (PetscInt i = 0; i < p.n; ++i) {
-    ContactBody    &b = dem->bodies[(std::size_t)i];
-    const PetscReal m = dem->props->Mass(p.d[i]);
-    b.x               = {p.x[p.dim * i], p.x[p.dim * i + 1], p.dim == 3 ? p.x[3 * i + 2] : 0.0};
-    b.v               = kernels::predicted_velocity(Load3(p.v, i), Load3(p.f, i), 1.0 / m, h);
-    b.w               = kernels::predicted_velocity(Load3(p.w, i), Load3(p.t, i), 1.0 / kernels::sphere_inertia(m, p.d[i]), h);
-    b.r               = 0.5 * p.d[i];
-    b.m               = m;
+    ContactBody &b = dem->bodies[(std::size_t)i];
+    mt.Set(p.d[i]);
+    b.x = {p.x[p.dim * i], p.x[p.dim * i + 1], p.dim == 3 ? p.x[3 * i + 2] : 0.0};
+    b.v = kernels::predicted_velocity(Load3(p.v, i), Load3(p.f, i), mt.inv_m, h);
+    b.w = kernels::predicted_velocity(Load3(p.w, i), Load3(p.t, i), mt.inv_I, h);
+    b.r = 0.5 * p.d[i];
+    b.m = mt.m;
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &p));
   PetscFunctionReturn(0);

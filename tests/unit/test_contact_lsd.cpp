@@ -146,3 +146,32 @@ TEST(LsdContact, HeadOnRestitutionAndDuration)
     EXPECT_NEAR((t_out - t_in) / tcr, 1.0, 0.01) << "e = " << e;
   }
 }
+
+// The force loop (src/contact/contact_forces.cpp) adds a zero contribution for a listed pair that is apart where it
+// used to skip the pair, and adds -1 * c for a contribution c evaluated from the partner's side where it used to add
+// -c. Both give the same bits: sums start at +0 and under round-to-nearest a sum is -0 only when both terms are, so
+// they never become -0 and adding +0 or -0 leaves them unchanged; -1 * c is -c.
+TEST(LsdContact, ZeroAndMirroredContributionsSumBitForBit)
+{
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 1000; ++trial) {
+    double before = 0.0, now = 0.0; // the old and the new way
+    for (int k = 0; k < 12; ++k) {
+      const double u = uniform01(rng);
+      if (u < 0.4) { // a pair apart: skipped before, now +0 (own) or -1 * +0 = -0 (the partner's)
+        now += (u < 0.2) ? 0.0 : -1.0 * 0.0;
+        continue;
+      }
+      const double c = (u > 0.9) ? before : 1e-3 * (2.0 * uniform01(rng) - 1.0); // exact cancellations too
+      if (u > 0.65) {                                                            // evaluated by the partner
+        before += -c;
+        now += -1.0 * c;
+      } else {
+        before += c;
+        now += c;
+      }
+    }
+    EXPECT_EQ(std::signbit(before), std::signbit(now));
+    EXPECT_EQ(before, now);
+  }
+}
