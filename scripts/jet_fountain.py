@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""The jet column of a time-averaged jetting bed: how high the fountain rises and how fast the particles in the jet
+move (seed chapter 5: "the height to which the fountain rises is close to 120 mm", "the central solid velocity ...
+about 0.85 m/s"). Reads analysis.h5: the solid fraction and particle velocity of the particle-grid column holding
+the jet (--x, default the middle of the bed), averaged over the depth. The fountain height at a threshold is where
+the column's solid fraction, scanned down from the top, first reaches the threshold (linear between cell centres):
+the seed reads it off void-fraction contours, so several thresholds are given. Prints the figures and, with
+--json, writes them.
+
+    scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--json jet.json]"""
+
+import argparse
+import json
+
+import fbplot as fp
+import numpy as np
+
+
+def column_index(origin, spacing, cells, x):
+    """The particle-grid column holding x (clamped to the grid)."""
+    return int(min(max(np.floor((x - origin) / spacing), 0), cells - 1))
+
+
+def fountain_height(heights, solid_fraction, threshold):
+    """Highest point where the profile solid_fraction(heights) (cell centres, increasing) reaches threshold, scanning
+    down from the top and interpolating linearly between the two cell centres that bracket the crossing; NaN when
+    the column never reaches it; the top cell centre when the top cell is at or above it."""
+    h = np.asarray(heights, dtype=float)
+    s = np.asarray(solid_fraction, dtype=float)
+    above = np.nonzero(s >= threshold)[0]
+    if above.size == 0:
+        return float("nan")
+    k = above[-1]
+    if k == len(s) - 1:
+        return float(h[k])
+    return float(h[k] + (s[k] - threshold) / (s[k] - s[k + 1]) * (h[k + 1] - h[k]))
+
+
+def jet_column(a, x):
+    """Heights, solid fraction and vertical particle velocity of the column holding x (depth means)."""
+    lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
+    dim = a["fields/solid_fraction"].ndim
+    i = column_index(lo[0], h[0], n[0], x)
+    sf = fp.depth_mean(a["fields/solid_fraction"], dim)[:, i]
+    vy = fp.depth_mean(a["fields/velocity"], dim)[:, i, 1]
+    y = lo[1] + (np.arange(n[1]) + 0.5) * h[1]
+    return i, lo[0] + (i + 0.5) * h[0], y, sf, vy
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog="example:" + __doc__.split("\n\n", 1)[1],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run", help="run directory (fluidbed -output_dir) holding analysis.h5")
+    ap.add_argument("--x", type=float, help="x of the jet in m (default: the middle of the bed)")
+    ap.add_argument("--thresholds", default="0.1,0.05,0.02", help="solid fractions that mark the fountain's top")
+    ap.add_argument("--json", help="write the figures to this file")
+    args = ap.parse_args()
+
+    a = fp.read_analysis(args.run)
+    lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
+    x = args.x if args.x is not None else lo[0] + 0.5 * n[0] * h[0]
+    i, xc, y, sf, vy = jet_column(a, x)
+    thresholds = [float(s) for s in args.thresholds.split(",")]
+    out = {
+        "window_s": [float(a["measures/window_start"][0]), float(a["measures/window_end"][0])],
+        "samples": int(a["measures/samples"][0]),
+        "column": i,
+        "column_x_m": [float(lo[0] + i * h[0]), float(lo[0] + (i + 1) * h[0])],
+        "fountain_height_m": {"%g" % t: fountain_height(y, sf, t) for t in thresholds},
+        "bed_height_cutoff_m": float(a["measures/expanded_bed_height_cutoff"][0]),
+        "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
+        "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
+    }
+    print("window %.3f-%.3f s (%d samples); jet column %d (x %.2f-%.2f mm)" %
+          (out["window_s"][0], out["window_s"][1], out["samples"], i, out["column_x_m"][0] * fp.MM, out["column_x_m"][1] * fp.MM))
+    for t, v in out["fountain_height_m"].items():
+        print("fountain height at solid fraction %s: %.1f mm" % (t, v * fp.MM))
+    print("bed height (cross-section cut-off): %.1f mm" % (out["bed_height_cutoff_m"] * fp.MM))
+    print("largest upward particle velocity in the jet column: %.3f m/s at %.1f mm" %
+          (out["jet_max_velocity_y_m_s"], out["jet_max_velocity_y_height_m"] * fp.MM))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(out, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
