@@ -34,6 +34,7 @@ py=/usr/bin/python3
 [[ -x $py ]] || py=python3
 plot() { "$py" "$FLUIDBED_ROOT/scripts/$1" "${@:2}" || echo "validate.sh: $1 drew nothing for this run"; }
 plot plot_pressure.py "$out" "$out/plots/pressure.png"
+plot plot_snapshots.py "$out" "$out/plots/snapshots.png"
 if [[ -f $out/analysis.h5 ]]; then
   plot plot_void_fraction.py "$out" "$out/plots/void_fraction.png"
   plot plot_velocity.py "$out" "$out/plots/velocity.png"

@@ -37,7 +37,7 @@ def png(path, label):
 
 
 os.makedirs("plots", exist_ok=True)
-for name in ("plot_void_fraction.py", "plot_velocity.py", "plot_profiles.py", "plot_pressure.py", "plot_bars.py"):
+for name in ("plot_void_fraction.py", "plot_velocity.py", "plot_profiles.py", "plot_pressure.py", "plot_bars.py", "plot_snapshots.py"):
     for f in os.listdir("plots"):
         os.remove(os.path.join("plots", f))
     p = script(name, "--help")
@@ -56,5 +56,10 @@ png("plots/heights.png", "plot_profiles.py --heights")
 p = script("plot_pressure.py", dem, "plots/none.png", fail=True)
 t.check(p.returncode != 0 and "no pressure" in p.stderr and not os.path.exists("plots/none.png"),
         "plot_pressure.py on a run without gas: exit %d, %s" % (p.returncode, p.stderr.strip()[:120]))
+script("plot_snapshots.py", gas, "plots/two.png", "--snapshots", "0,2")
+png("plots/two.png", "plot_snapshots.py --snapshots 0,2")
+p = script("plot_snapshots.py", gas, "plots/none.png", "--snapshots", "99", fail=True)
+t.check(p.returncode != 0 and "--snapshots" in p.stderr and not os.path.exists("plots/none.png"),
+        "plot_snapshots.py --snapshots 99: %s" % p.stderr.strip()[:120])
 p = script("plot_profiles.py", dem, "plots/none.png", "--heights", "1.0", fail=True)
 t.check(p.returncode != 0 and "--heights" in p.stderr, "plot_profiles.py --heights 1.0 outside the bed: %s" % p.stderr.strip()[:120])
