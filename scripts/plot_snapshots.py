@@ -48,8 +48,9 @@ def main():
     top = min(hi[1], args.ymax if args.ymax is not None else lo[1] + 1.2 * (top_particle - lo[1]))
     vmax = max((float(np.percentile(s, 99)) if len(s) else 0.0) for _, s, _, _ in frames) or 1.0
 
-    width = (hi[0] - lo[0]) / max(top - lo[1], 1e-12)
-    fig, axes = plt.subplots(1, len(frames), figsize=(min(2.0 + 10 * width, 4.0) * len(frames) * 0.8 + 1.5, 7), squeeze=False, sharey=True)
+    aspect = (hi[0] - lo[0]) / max(top - lo[1], 1e-12)  # each panel drawn to scale, 6 inches tall
+    panel = min(max(6.0 * aspect, 1.2), 6.0) + 0.5
+    fig, axes = plt.subplots(1, len(frames), figsize=(panel * len(frames) + 1.5, 7), squeeze=False, sharey=True)
     for ax, (x, speed, d, time) in zip(axes[0], frames):
         # the fastest drawn last, on top
         order = np.argsort(speed)
