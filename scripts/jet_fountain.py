@@ -7,12 +7,19 @@ the column's solid fraction, scanned down from the top, first reaches the thresh
 the seed reads it off void-fraction contours, so several thresholds are given. Prints the figures and, with
 --json, writes them.
 
-    scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--json jet.json]"""
+--since takes an earlier copy of the same run's analysis.h5 (written with -average_output_interval): the averages
+are running means over the samples, so the window between the two copies is (N2 m2 - N1 m1) / (N2 - N1) for the
+solid fraction and the solid flux; the particle velocity is then the flux over the solid fraction (the
+volume-weighted mean, the same as sum v / sum N for equal particles). This leaves a start-up transient out.
+
+    scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--since early/analysis.h5] [--json jet.json]"""
 
 import argparse
 import json
+import os
 
 import fbplot as fp
+import h5py
 import numpy as np
 
 
@@ -36,13 +43,36 @@ def fountain_height(heights, solid_fraction, threshold):
     return float(h[k] + (s[k] - threshold) / (s[k] - s[k + 1]) * (h[k + 1] - h[k]))
 
 
+def window_between(early, late):
+    """The averages over the samples of `late` that came after those of `early` (two copies of one run's
+    analysis.h5, dicts of arrays): solid fraction and solid flux by difference of the running means, velocity as
+    flux / solid fraction (NaN where no solid)."""
+    n1, n2 = float(early["measures/samples"][0]), float(late["measures/samples"][0])
+    if not n2 > n1:
+        fp.die("--since: the earlier file has %d samples, the run %d: give a copy written earlier in the same run" % (n1, n2))
+    for key in ("grid/origin", "grid/spacing", "grid/cells"):
+        if not np.array_equal(early[key], late[key]):
+            fp.die("--since: the two files have different grids (%s)" % key)
+    w = dict(late)
+    sf = (n2 * late["fields/solid_fraction"] - n1 * early["fields/solid_fraction"]) / (n2 - n1)
+    flux = (n2 * late["fields/solid_flux"] - n1 * early["fields/solid_flux"]) / (n2 - n1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w["fields/velocity"] = np.where(sf[..., None] > 0, flux / sf[..., None], np.nan)
+    w["fields/solid_fraction"] = sf
+    w["fields/solid_flux"] = flux
+    w["measures/samples"] = np.array([n2 - n1])
+    w["measures/window_start"] = early["measures/window_end"]
+    return w
+
+
 def jet_column(a, x):
     """Heights, solid fraction and vertical particle velocity of the column holding x (depth means)."""
     lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
     dim = a["fields/solid_fraction"].ndim
     i = column_index(lo[0], h[0], n[0], x)
     sf = fp.depth_mean(a["fields/solid_fraction"], dim)[:, i]
-    vy = fp.depth_mean(a["fields/velocity"], dim)[:, i, 1]
+    with np.errstate(invalid="ignore"):
+        vy = fp.depth_mean(a["fields/velocity"], dim)[:, i, 1]
     y = lo[1] + (np.arange(n[1]) + 0.5) * h[1]
     return i, lo[0] + (i + 0.5) * h[0], y, sf, vy
 
@@ -53,10 +83,18 @@ def main():
     ap.add_argument("run", help="run directory (fluidbed -output_dir) holding analysis.h5")
     ap.add_argument("--x", type=float, help="x of the jet in m (default: the middle of the bed)")
     ap.add_argument("--thresholds", default="0.1,0.05,0.02", help="solid fractions that mark the fountain's top")
+    ap.add_argument("--since", help="an earlier copy of the run's analysis.h5: report the window between the two")
     ap.add_argument("--json", help="write the figures to this file")
     args = ap.parse_args()
 
     a = fp.read_analysis(args.run)
+    if args.since:
+        if not os.path.isfile(args.since):
+            fp.die("--since: no file %s" % args.since)
+        early = {}
+        with h5py.File(args.since, "r") as f:
+            f.visititems(lambda name, obj: early.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
+        a = window_between(early, a)
     lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
     x = args.x if args.x is not None else lo[0] + 0.5 * n[0] * h[0]
     i, xc, y, sf, vy = jet_column(a, x)
@@ -67,7 +105,8 @@ def main():
         "column": i,
         "column_x_m": [float(lo[0] + i * h[0]), float(lo[0] + (i + 1) * h[0])],
         "fountain_height_m": {"%g" % t: fountain_height(y, sf, t) for t in thresholds},
-        "bed_height_cutoff_m": float(a["measures/expanded_bed_height_cutoff"][0]),
+        # the highest layer whose cross-section mean solid fraction reaches 0.1, as fountain_height finds it
+        "bed_height_cross_section_0.1_m": fountain_height(y, np.nanmean(fp.depth_mean(a["fields/solid_fraction"], a["fields/solid_fraction"].ndim), axis=1), 0.1),
         "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
         "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
     }
@@ -75,7 +114,7 @@ def main():
           (out["window_s"][0], out["window_s"][1], out["samples"], i, out["column_x_m"][0] * fp.MM, out["column_x_m"][1] * fp.MM))
     for t, v in out["fountain_height_m"].items():
         print("fountain height at solid fraction %s: %.1f mm" % (t, v * fp.MM))
-    print("bed height (cross-section cut-off): %.1f mm" % (out["bed_height_cutoff_m"] * fp.MM))
+    print("bed height (cross-section mean solid fraction 0.1): %.1f mm" % (out["bed_height_cross_section_0.1_m"] * fp.MM))
     print("largest upward particle velocity in the jet column: %.3f m/s at %.1f mm" %
           (out["jet_max_velocity_y_m_s"], out["jet_max_velocity_y_height_m"] * fp.MM))
     if args.json:

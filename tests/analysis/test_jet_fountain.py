@@ -5,7 +5,9 @@ answers, no runs:
 - a column that never reaches a threshold gives NaN; one whose top cell reaches it gives the top cell centre;
 - x picks the particle-grid column holding it, clamped to the grid;
 - the script on a hand-built analysis.h5 (3D, two cells deep, a fountain only in the jet column) reports the
-  crossing of that column and its largest upward velocity, not those of the bed beside it."""
+  crossing of that column and its largest upward velocity, not those of the bed beside it;
+- --since: two running means (1000 samples of a tall fountain, then 3000 samples in all) give back the window's own
+  fountain and velocity exactly (to 1e-12); an earlier file with more samples is refused."""
 import json
 import math
 import os
@@ -47,20 +49,32 @@ vel[:, :, 4, 1] = 0.2
 k30 = int(np.argmin(np.abs(y - 0.030)))
 vel[:, k30, 4, 1] = 0.9
 vel[:, :, 2, 1] = np.nan  # column 2: no particle came (NaN), must not disturb the jet column
+
+
+def write_analysis(path, sf, vel, samples, start, end):
+    with h5py.File(path, "w") as f:
+        f["grid/origin"] = np.zeros(3)
+        f["grid/spacing"] = np.array([0.005, h, 0.002])
+        f["grid/cells"] = np.array([nx, ny, nz])
+        f["fields/solid_fraction"] = sf
+        f["fields/velocity"] = vel
+        f["fields/solid_flux"] = np.nan_to_num(vel) * sf[..., None]
+        f["measures/window_start"] = [start]
+        f["measures/window_end"] = [end]
+        f["measures/samples"] = [samples]
+        f["measures/expanded_bed_height_cutoff"] = [0.02]
+
+
+def jet_fountain(run, *extra):
+    p = subprocess.run([sys.executable, os.path.join(t.SRC, "scripts", "jet_fountain.py"), run, "--thresholds", "0.1,0.02",
+                        "--json", run + "/jet.json"] + list(extra), capture_output=True, text=True, timeout=120)
+    print(p.stdout, p.stderr)
+    return p
+
+
 os.makedirs("jet_fountain_run", exist_ok=True)
-with h5py.File("jet_fountain_run/analysis.h5", "w") as f:
-    f["grid/origin"] = np.zeros(3)
-    f["grid/spacing"] = np.array([0.005, h, 0.002])
-    f["grid/cells"] = np.array([nx, ny, nz])
-    f["fields/solid_fraction"] = sf
-    f["fields/velocity"] = vel
-    f["measures/window_start"] = [1.0]
-    f["measures/window_end"] = [2.0]
-    f["measures/samples"] = [1000]
-    f["measures/expanded_bed_height_cutoff"] = [0.02]
-p = subprocess.run([sys.executable, os.path.join(t.SRC, "scripts", "jet_fountain.py"), "jet_fountain_run", "--thresholds", "0.1,0.02",
-                    "--json", "jet_fountain_run/jet.json"], capture_output=True, text=True, timeout=120)
-print(p.stdout, p.stderr)
+write_analysis("jet_fountain_run/analysis.h5", sf, vel, 1000, 1.0, 2.0)
+p = jet_fountain("jet_fountain_run")
 t.check(p.returncode == 0, "jet_fountain.py exits 0")
 r = json.load(open("jet_fountain_run/jet.json"))
 t.check(r["column"] == 4, "the jet column is the middle one (column %d)" % r["column"])
@@ -68,3 +82,31 @@ t.check(abs(r["fountain_height_m"]["0.1"] - 0.12) < 1e-12 and abs(r["fountain_he
         "fountain heights %.4f and %.4f m at 0.1 and 0.02 (exact 0.12 and 0.136)" % (r["fountain_height_m"]["0.1"], r["fountain_height_m"]["0.02"]))
 t.check(r["jet_max_velocity_y_m_s"] == 0.9 and abs(r["jet_max_velocity_y_height_m"] - y[k30]) < 1e-15,
         "largest upward velocity of the jet column 0.9 m/s at %.1f mm" % (1e3 * r["jet_max_velocity_y_height_m"]))
+# cross-section mean: 0.6 in every layer below 20 mm; at the 22 mm layer only the jet column holds solid (0.59 / 9)
+m22 = (0.6 - 5.0 * 0.002) / 9
+exact = 0.018 + (0.6 - 0.1) / (0.6 - m22) * 0.004
+t.check(abs(r["bed_height_cross_section_0.1_m"] - exact) < 1e-12,
+        "bed height from the cross-section mean %.6f m (exact %.6f m)" % (r["bed_height_cross_section_0.1_m"], exact))
+
+# --since: the first 1000 samples had a fountain twice as tall (solid fraction 0.6 up to 40 mm, then falling) and
+# particles at 2 m/s; the run's file holds the running means over 3000 samples; the last 2000 are the bed above.
+tall = np.where(y[None, :, None] < 0.04, 0.6, 0.0) * np.ones((nz, ny, nx))
+vel_tall = np.zeros((nz, ny, nx, 3))
+vel_tall[..., 1] = 2.0
+flux_late = np.nan_to_num(vel) * sf[..., None]
+sf_mean = (1000 * tall + 2000 * sf) / 3000
+flux_mean = (1000 * vel_tall * tall[..., None] + 2000 * flux_late) / 3000
+os.makedirs("jet_fountain_since", exist_ok=True)
+write_analysis("jet_fountain_since/early.h5", tall, vel_tall, 1000, 1.0, 1.5)
+with np.errstate(invalid="ignore", divide="ignore"):
+    write_analysis("jet_fountain_since/analysis.h5", sf_mean, np.where(sf_mean[..., None] > 0, flux_mean / sf_mean[..., None], np.nan), 3000, 1.0, 2.5)
+with h5py.File("jet_fountain_since/analysis.h5", "r+") as f:
+    f["fields/solid_flux"][...] = flux_mean
+p = jet_fountain("jet_fountain_since", "--since", "jet_fountain_since/early.h5")
+r = json.load(open("jet_fountain_since/jet.json"))
+t.check(p.returncode == 0 and r["samples"] == 2000 and abs(r["window_s"][0] - 1.5) < 1e-15, "--since: the window is 1.5-2.5 s, 2000 samples")
+t.check(abs(r["fountain_height_m"]["0.1"] - 0.12) < 1e-12 and abs(r["fountain_height_m"]["0.02"] - 0.136) < 1e-12,
+        "--since: the window's fountain heights %.6f and %.6f m (exact 0.12 and 0.136)" % (r["fountain_height_m"]["0.1"], r["fountain_height_m"]["0.02"]))
+t.check(abs(r["jet_max_velocity_y_m_s"] - 0.9) < 1e-12, "--since: the window's largest upward velocity %.12f m/s (0.9)" % r["jet_max_velocity_y_m_s"])
+p = jet_fountain("jet_fountain_run", "--since", "jet_fountain_since/analysis.h5")
+t.check(p.returncode != 0 and "--since" in p.stderr, "--since with a later file is refused: %s" % p.stderr.strip()[:100])
