@@ -12,7 +12,8 @@ are running means over the samples, so the window between the two copies is (N2 
 solid fraction and the solid flux; the particle velocity is then the flux over the solid fraction (the
 volume-weighted mean, the same as sum v / sum N for equal particles). This leaves a start-up transient out.
 
-    scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--since early/analysis.h5] [--json jet.json]"""
+    scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--below 0.25] [--since early/analysis.h5]
+                            [--json jet.json]"""
 
 import argparse
 import json
@@ -83,6 +84,8 @@ def main():
     ap.add_argument("run", help="run directory (fluidbed -output_dir) holding analysis.h5")
     ap.add_argument("--x", type=float, help="x of the jet in m (default: the middle of the bed)")
     ap.add_argument("--thresholds", default="0.1,0.05,0.02", help="solid fractions that mark the fountain's top")
+    ap.add_argument("--below", type=float, help="consider only cells whose centres lie below this height (m), e.g. to leave out "
+                    "particles held against a closed top")
     ap.add_argument("--since", help="an earlier copy of the run's analysis.h5: report the window between the two")
     ap.add_argument("--json", help="write the figures to this file")
     args = ap.parse_args()
@@ -98,6 +101,12 @@ def main():
     lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
     x = args.x if args.x is not None else lo[0] + 0.5 * n[0] * h[0]
     i, xc, y, sf, vy = jet_column(a, x)
+    cross = np.nanmean(fp.depth_mean(a["fields/solid_fraction"], a["fields/solid_fraction"].ndim), axis=1)
+    if args.below is not None:
+        keep = y < args.below
+        if not keep.any():
+            fp.die("--below %g: no cell centre lies below it" % args.below)
+        y, sf, vy, cross = y[keep], sf[keep], vy[keep], cross[keep]
     thresholds = [float(s) for s in args.thresholds.split(",")]
     out = {
         "window_s": [float(a["measures/window_start"][0]), float(a["measures/window_end"][0])],
@@ -106,7 +115,8 @@ def main():
         "column_x_m": [float(lo[0] + i * h[0]), float(lo[0] + (i + 1) * h[0])],
         "fountain_height_m": {"%g" % t: fountain_height(y, sf, t) for t in thresholds},
         # the highest layer whose cross-section mean solid fraction reaches 0.1, as fountain_height finds it
-        "bed_height_cross_section_0.1_m": fountain_height(y, np.nanmean(fp.depth_mean(a["fields/solid_fraction"], a["fields/solid_fraction"].ndim), axis=1), 0.1),
+        "bed_height_cross_section_0.1_m": fountain_height(y, cross, 0.1),
+        "below_m": args.below,
         "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
         "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
     }

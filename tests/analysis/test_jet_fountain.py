@@ -7,7 +7,8 @@ answers, no runs:
 - the script on a hand-built analysis.h5 (3D, two cells deep, a fountain only in the jet column) reports the
   crossing of that column and its largest upward velocity, not those of the bed beside it;
 - --since: two running means (1000 samples of a tall fountain, then 3000 samples in all) give back the window's own
-  fountain and velocity exactly (to 1e-12); an earlier file with more samples is refused."""
+  fountain and velocity exactly (to 1e-12); an earlier file with more samples is refused;
+- --below leaves out a layer held against a closed top."""
 import json
 import math
 import os
@@ -108,5 +109,15 @@ t.check(p.returncode == 0 and r["samples"] == 2000 and abs(r["window_s"][0] - 1.
 t.check(abs(r["fountain_height_m"]["0.1"] - 0.12) < 1e-12 and abs(r["fountain_height_m"]["0.02"] - 0.136) < 1e-12,
         "--since: the window's fountain heights %.6f and %.6f m (exact 0.12 and 0.136)" % (r["fountain_height_m"]["0.1"], r["fountain_height_m"]["0.02"]))
 t.check(abs(r["jet_max_velocity_y_m_s"] - 0.9) < 1e-12, "--since: the window's largest upward velocity %.12f m/s (0.9)" % r["jet_max_velocity_y_m_s"])
+# --below: a layer held against the top (every column full above 150 mm) hides the fountain unless left out
+cake = sf.copy()
+cake[:, y > 0.15, :] = 0.6
+os.makedirs("jet_fountain_cake", exist_ok=True)
+write_analysis("jet_fountain_cake/analysis.h5", cake, vel, 1000, 1.0, 2.0)
+jet_fountain("jet_fountain_cake")
+top = json.load(open("jet_fountain_cake/jet.json"))["fountain_height_m"]["0.1"]
+jet_fountain("jet_fountain_cake", "--below", "0.15")
+below = json.load(open("jet_fountain_cake/jet.json"))["fountain_height_m"]["0.1"]
+t.check(top == y[-1] and abs(below - 0.12) < 1e-12, "--below 0.15 leaves the top layer out: %.4f m (without: %.4f m)" % (below, top))
 p = jet_fountain("jet_fountain_run", "--since", "jet_fountain_since/analysis.h5")
 t.check(p.returncode != 0 and "--since" in p.stderr, "--since with a later file is refused: %s" % p.stderr.strip()[:100])
