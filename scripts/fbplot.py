@@ -5,6 +5,7 @@ import argparse
 import glob
 import os
 import sys
+import warnings
 import xml.etree.ElementTree as ET
 
 import matplotlib
@@ -73,7 +74,11 @@ def box(run):
 def depth_mean(field, dim):
     """A cell field (nz, ny, nx[, c]) in 3D or (ny, nx[, c]) in 2D as (ny, nx[, c]), averaged over the depth."""
     f = np.asarray(field, dtype=float)
-    return np.nanmean(f, axis=0) if dim == 3 else f
+    if dim != 3:
+        return f
+    with warnings.catch_warnings():  # a column no particle reached is NaN through the depth: NaN is the answer
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanmean(f, axis=0)
 
 
 def snapshots(run):
