@@ -252,6 +252,11 @@ PetscErrorCode FluidSetUp(Fluid *f)
   PetscCall(FluidScatterVelocity(f));
   PetscCall(FluidPressureCreate(f));
   PetscCall(FluidStepRates(f, &r));
+  {
+    PetscReal ramp;
+    PetscCall(FluidInletRampRate(f, &ramp));
+    r.conv = PetscMax(r.conv, ramp);
+  }
   f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
   f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
   PetscCall(FluidFlowRates(f, &f->stats.inflow, &f->stats.outflow));
@@ -274,6 +279,11 @@ PetscErrorCode FluidMaxTimeStep(Fluid *f, PetscReal *dt)
   PetscCall(DMGlobalToLocal(f->da_s, f->eps, INSERT_VALUES, f->eps_loc));
   PetscCall(FluidFillGhosts(f, f->eps_loc, 0));
   PetscCall(FluidStepRates(f, &r));
+  {
+    PetscReal ramp;
+    PetscCall(FluidInletRampRate(f, &ramp));
+    r.conv = PetscMax(r.conv, ramp);
+  }
   f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
   f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
   *dt              = f->cfl / (r.conv + r.visc);
@@ -416,6 +426,11 @@ PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
       viewer, "Gas inlet: distributor %.6g m/s, %d slit(s), inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
       (double)f->inlet_velocity, (int)f->jets.size(), (double)f->inflow_rate,
       (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
+  if (f->inlet_ramp > 0)
+    PetscCall(PetscViewerASCIIPrintf(viewer,
+                                     "  ramped up linearly over the first %.6g s (-inlet_ramp_time); the gas step limits count the "
+                                     "inlet at full speed\n",
+                                     (double)f->inlet_ramp));
   for (std::size_t s = 0; s < f->jets.size(); ++s)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  slit %d: x = %.6g..%.6g mm (cells %ld..%ld), %.6g m/s\n", (int)s + 1,
                                      1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]),

@@ -97,6 +97,10 @@ PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
   PetscCall(OptionsRealArray(PetscOptionsObject, "-jets",
                              "Slits through the depth: centre x [m], width [m], superficial velocity [m/s] of each, comma-separated",
                              "m,m,m/s", Closed(-1e4, 1e4), jets, &njets, PETSC_FALSE, &set_jets));
+  PetscCall(OptionsReal(PetscOptionsObject, "-ramp_time",
+                        "Time over which the distributor and slit velocities grow linearly from 0 to their values (0: at full speed "
+                        "from the start; a packed bed hit by a full jet at once can be launched as a slug)",
+                        "s", NonNegative(1e6), &f->inlet_ramp, NULL));
   PetscOptionsEnd();
 
   if (set_jets) PetscCall(ReadJets(f, jets, njets));
@@ -193,6 +197,11 @@ PetscErrorCode FluidDepsSum(Fluid *f, PetscReal dt, PetscReal *sum)
   PetscFunctionReturn(0);
 }
 
+PetscReal FluidInletScale(const Fluid *f, PetscReal t)
+{
+  return f->inlet_ramp > 0 ? PetscMin(1.0, t / f->inlet_ramp) : 1.0;
+}
+
 PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapolate)
 {
   FieldView u, e;
@@ -200,7 +209,8 @@ PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapola
 
   PetscFunctionBeginUser;
   PetscCall(FluidDepsSum(f, dt, &deps_sum));
-  const PetscReal outflow_rate = f->inflow_rate + deps_sum;
+  const PetscReal scale        = FluidInletScale(f, f->time + dt); // the faces of the end of the step
+  const PetscReal outflow_rate = scale * f->inflow_rate + deps_sum;
   PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
   PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
   // lower faces: walls (0) and the bottom inlet (superficial velocity / eps)
@@ -214,7 +224,7 @@ PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapola
     hi[a] = 1;
     for (PetscInt k = lo[2]; k < hi[2]; ++k)
       for (PetscInt j = lo[1]; j < hi[1]; ++j)
-        for (PetscInt i = lo[0]; i < hi[0]; ++i) u(i, j, k, a) = a == 1 ? f->inlet[i] / e(i, j, k) : 0.0;
+        for (PetscInt i = lo[0]; i < hi[0]; ++i) u(i, j, k, a) = a == 1 ? scale * f->inlet[i] / e(i, j, k) : 0.0;
   }
   // top outlet
   if (TopIsOutlet(f) && f->xs[1] + f->xm[1] == f->n[1]) {

@@ -85,6 +85,7 @@ struct Fluid {
   std::vector<kernels::JetCells> jets;
   std::vector<PetscReal>         inlet;                       // superficial inflow velocity of each bottom cell along x
   PetscReal                      inflow_rate   = 0;           // m^3/s, from the inlet profile
+  PetscReal                      inlet_ramp    = 0;           // s: the inflow grows linearly from 0 over this time (0: none)
   PetscBool                      has_dirichlet = PETSC_FALSE; // a pressure outlet
 
   // grids and fields
@@ -166,6 +167,10 @@ PetscErrorCode FluidReadBoundaryOptions(Fluid *f);
 PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind); // kind: 0 scalar (eps), 1 velocity
 // Boundary face velocities for the current eps: walls 0, the inlet's superficial velocity / eps, the outlet's
 // (uniform: inflow minus the integral of d(eps)/dt; pressure: the predicted velocity extrapolated when extrapolate).
+// The factor of the inlet velocities at time t (-inlet_ramp_time), and the convective rate the inlet will reach
+// at full speed while it ramps up (0 after).
+PetscReal      FluidInletScale(const Fluid *f, PetscReal t);
+PetscErrorCode FluidInletRampRate(Fluid *f, PetscReal *conv);
 PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapolate);
 PetscErrorCode FluidScatterVelocity(Fluid *f);
 PetscErrorCode FluidFlowRates(Fluid *f, PetscReal *in, PetscReal *out);

@@ -233,4 +233,28 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
   PetscFunctionReturn(0);
 }
 
+// The convective rate an inlet still ramping up (-inlet_ramp_time) will reach at its full speed: the full
+// superficial velocity through the least void fraction of the bottom row, with that void fraction's inverse bounding
+// the ratio of the rates (eps_max <= 1). Zero once the ramp is over. Steps chosen from the limits (FluidMaxTimeStep)
+// then stay stable as the inflow grows.
+PetscErrorCode FluidInletRampRate(Fluid *f, PetscReal *conv)
+{
+  PetscReal loc = 0;
+
+  PetscFunctionBeginUser;
+  if (FluidInletScale(f, f->time) < 1 && !f->periodic[1] && f->xs[1] == 0) {
+    FieldView e;
+    PetscReal vmax = 0, emin = 1;
+    for (PetscReal v : f->inlet) vmax = PetscMax(vmax, PetscAbsReal(v));
+    PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+    for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
+      for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) emin = PetscMin(emin, e(i, 0, k));
+    PetscCall(FieldRestore(f->eps, &e));
+    const PetscReal speed[3] = {0, vmax / emin, 0};
+    loc = kernels::explicit_step_rates((int)f->dim, speed, f->h, 0.0, kernels::limiter_psi_max(f->limiter), 1.0 / emin).conv;
+  }
+  PetscCallMPI(MPI_Allreduce(&loc, conv, 1, MPIU_REAL, MPI_MAX, f->comm));
+  PetscFunctionReturn(0);
+}
+
 } // namespace fluidbed
