@@ -41,12 +41,17 @@ def analysis_path(run):
     return path
 
 
-def read_analysis(run):
-    """analysis.h5 as a dict of arrays keyed by dataset path without the leading slash."""
+def read_h5(path):
+    """Every dataset of an HDF5 file as a dict of arrays keyed by dataset path without the leading slash."""
     data = {}
-    with h5py.File(analysis_path(run), "r") as f:
+    with h5py.File(path, "r") as f:
         f.visititems(lambda name, obj: data.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
     return data
+
+
+def read_analysis(run):
+    """The run's analysis.h5 (read_h5)."""
+    return read_h5(analysis_path(run))
 
 
 def box(run):

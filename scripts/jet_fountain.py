@@ -15,12 +15,10 @@ volume-weighted mean, the same as sum v / sum N for equal particles). This leave
     scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--below 0.25] [--since early/analysis.h5]
                             [--json jet.json]"""
 
-import argparse
 import json
 import os
 
 import fbplot as fp
-import h5py
 import numpy as np
 
 
@@ -79,8 +77,7 @@ def jet_column(a, x):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog="example:" + __doc__.split("\n\n", 1)[1],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = fp.parser(__doc__, single_run=False)
     ap.add_argument("run", help="run directory (fluidbed -output_dir) holding analysis.h5")
     ap.add_argument("--x", type=float, help="x of the jet in m (default: the middle of the bed)")
     ap.add_argument("--thresholds", default="0.1,0.05,0.02", help="solid fractions that mark the fountain's top")
@@ -94,10 +91,7 @@ def main():
     if args.since:
         if not os.path.isfile(args.since):
             fp.die("--since: no file %s" % args.since)
-        early = {}
-        with h5py.File(args.since, "r") as f:
-            f.visititems(lambda name, obj: early.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
-        a = window_between(early, a)
+        a = window_between(fp.read_h5(args.since), a)
     lo, h, n = a["grid/origin"], a["grid/spacing"], a["grid/cells"].astype(int)
     x = args.x if args.x is not None else lo[0] + 0.5 * n[0] * h[0]
     i, xc, y, sf, vy = jet_column(a, x)

@@ -241,7 +241,7 @@ PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid 
 
 PetscErrorCode FluidSetUp(Fluid *f)
 {
-  kernels::StepRates r;
+  PetscReal dt_max;
 
   PetscFunctionBeginUser;
   PetscCall(SetFrozenVoidFraction(f, 0.0));
@@ -251,18 +251,9 @@ PetscErrorCode FluidSetUp(Fluid *f)
   PetscCall(FluidSetBoundaryFaces(f, 0.0, PETSC_FALSE));
   PetscCall(FluidScatterVelocity(f));
   PetscCall(FluidPressureCreate(f));
-  PetscCall(FluidStepRates(f, &r));
-  {
-    PetscReal ramp;
-    PetscCall(FluidInletRampRate(f, &ramp));
-    r.conv = PetscMax(r.conv, ramp);
-  }
-  f->stats.dt_conv = r.conv > 0 ? f->cfl / r.conv : PETSC_MAX_REAL;
-  f->stats.dt_visc = r.visc > 0 ? f->cfl / r.visc : PETSC_MAX_REAL;
+  PetscCall(FluidMaxTimeStep(f, &dt_max)); // the step limits of the initial state (stats.dt_conv, dt_visc)
   PetscCall(FluidFlowRates(f, &f->stats.inflow, &f->stats.outflow));
   if (f->dt_fixed > 0) {
-    PetscReal dt_max;
-    PetscCall(FluidMaxTimeStep(f, &dt_max));
     PetscCheck(f->dt_fixed <= dt_max * (1 + 1e-12), f->comm, PETSC_ERR_USER_INPUT,
                "-fluid_dt %.6g s exceeds the gas time-step limit %.6g s (convective %.6g s, viscous %.6g s at -fluid_cfl %.6g)",
                (double)f->dt_fixed, (double)dt_max, (double)f->stats.dt_conv, (double)f->stats.dt_visc, (double)f->cfl);

@@ -242,7 +242,10 @@ PetscErrorCode FluidInletRampRate(Fluid *f, PetscReal *conv)
   PetscReal loc = 0;
 
   PetscFunctionBeginUser;
-  if (FluidInletScale(f, f->time) < 1 && !f->periodic[1] && f->xs[1] == 0) {
+  *conv = 0;
+  // the same on every rank: no reduction once the ramp is over, or without one
+  if (!(FluidInletScale(f, f->time) < 1) || f->periodic[1]) PetscFunctionReturn(0);
+  if (f->xs[1] == 0) { // the ranks holding the bottom row
     FieldView e;
     PetscReal vmax = 0, emin = 1;
     for (PetscReal v : f->inlet) vmax = PetscMax(vmax, PetscAbsReal(v));
