@@ -1,5 +1,6 @@
 // fluidbed: CFD-DEM for fluidized and spouted beds, driven by PETSc options. Run with -help for every option.
 #include "fluidbed/simulation.hpp"
+#include "fluidbed/status.hpp"
 
 #include <sstream>
 #include <string>
@@ -37,16 +38,22 @@ bool IsInputError(PetscErrorCode n)
          n == PETSC_ERR_FILE_OPEN;
 }
 
+// A failed write (full disk, unwritable path), raised on every rank: one line, exit status EXIT_OUTPUT.
+bool IsOutputError(PetscErrorCode n)
+{
+  return n == PETSC_ERR_FILE_WRITE;
+}
+
 PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p,
                                  const char *mess, void *ctx)
 {
-  if (p == PETSC_ERROR_INITIAL && IsInputError(n)) {
+  if (p == PETSC_ERROR_INITIAL && (IsInputError(n) || IsOutputError(n))) {
     PetscMPIInt rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank); // options errors are raised on every rank: print once
     if (!rank) fprintf(stderr, "fluidbed: error: %s\n", mess);
     return n;
   }
-  if (p == PETSC_ERROR_REPEAT && IsInputError(n)) return n; // already reported
+  if (p == PETSC_ERROR_REPEAT && (IsInputError(n) || IsOutputError(n))) return n; // already reported
   return PetscTraceBackErrorHandler(comm, line, func, file, n, p, mess, ctx);
 }
 
@@ -82,10 +89,11 @@ int main(int argc, char **argv)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "No arguments: running the default scene, examples/jetted_bed_2d.opts (built in)\n"));
   PetscCall(PetscPushErrorHandler(InputErrorHandler, NULL));
   const PetscErrorCode ierr = Run();
-  if (ierr && ierr != PETSC_ERR_FILE_OPEN && IsInputError(ierr)) {
-    // Options are read identically on every rank, so every rank stops here: finish cleanly with a nonzero status.
+  if (ierr && ierr != PETSC_ERR_FILE_OPEN && (IsInputError(ierr) || IsOutputError(ierr))) {
+    // Options are read identically on every rank and write failures are agreed on by all ranks, so every rank
+    // stops here: finish cleanly with a nonzero status.
     PetscCall(PetscFinalize());
-    return 2;
+    return IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
   }
   if (ierr) PETSCABORT(PETSC_COMM_WORLD, ierr);
   PetscCall(PetscFinalize());
