@@ -57,7 +57,8 @@ PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, cons
   return PetscTraceBackErrorHandler(comm, line, func, file, n, p, mess, ctx);
 }
 
-PetscErrorCode Run()
+// status: the run's exit status (status.hpp), nonzero when a guard stopped it.
+PetscErrorCode Run(int *status)
 {
   fluidbed::Simulation *sim = nullptr;
 
@@ -65,6 +66,7 @@ PetscErrorCode Run()
   PetscCall(fluidbed::SimulationCreate(PETSC_COMM_WORLD, &sim));
   PetscCall(fluidbed::SimulationSetUp(sim));
   PetscCall(fluidbed::SimulationRun(sim));
+  *status = sim->exit_status;
   PetscCall(fluidbed::SimulationDestroy(&sim));
   PetscFunctionReturn(0);
 }
@@ -88,7 +90,8 @@ int main(int argc, char **argv)
   if (default_scene)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "No arguments: running the default scene, examples/jetted_bed_2d.opts (built in)\n"));
   PetscCall(PetscPushErrorHandler(InputErrorHandler, NULL));
-  const PetscErrorCode ierr = Run();
+  int                  status = fluidbed::EXIT_OK;
+  const PetscErrorCode ierr   = Run(&status);
   if (ierr && ierr != PETSC_ERR_FILE_OPEN && (IsInputError(ierr) || IsOutputError(ierr))) {
     // Options are read identically on every rank and write failures are agreed on by all ranks, so every rank
     // stops here: finish cleanly with a nonzero status.
@@ -97,5 +100,5 @@ int main(int argc, char **argv)
   }
   if (ierr) PETSCABORT(PETSC_COMM_WORLD, ierr);
   PetscCall(PetscFinalize());
-  return 0;
+  return status;
 }

@@ -23,6 +23,8 @@
 
 #include <petscdmda.h>
 
+#include <vector>
+
 #include "fluidbed/dem.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
@@ -38,7 +40,9 @@ struct CouplingStats {
   PetscReal  drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
   PetscReal  drag_gas[3]{0, 0, 0};       // the drag the gas received in its last step, M - B u summed over cells, N
   PetscReal  eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
-  PetscInt64 clamped = 0;                // cells whose eps hit -couple_eps_min in the last DEM step
+  PetscInt64 clamped     = 0;            // cells whose eps hit -couple_eps_min in the last DEM step
+  PetscReal  eps_raw_min = 1;            // the least 1 - solid volume / cell volume before the floor (< 0: overfilled)
+  PetscInt64 cells       = 0;            // coupling cells in all
 };
 
 // Reads -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and sets the
@@ -51,6 +55,19 @@ PetscErrorCode       CouplingBeforeFluidStep(Coupling *coupling);
 PetscErrorCode       CouplingAfterFluidStep(Coupling *coupling);
 const CouplingStats &CouplingGetStats(const Coupling *coupling);
 PetscErrorCode       CouplingView(const Coupling *coupling, PetscViewer viewer);
+// For the void-fraction guard: this rank's fluid cells (natural indices) that lie in coupling cells held at the floor,
+// and (collective) the first such coupling cell in natural ordering (-1 if none) and its size in particle diameters.
+PetscErrorCode CouplingFloorCells(Coupling *coupling, std::vector<PetscInt64> *fluid_cells, PetscInt first[3]);
+// The coupling cells' size (m) and the fluid cells each holds per direction (1 for the single grid).
+PetscErrorCode CouplingCellSize(const Coupling *coupling, PetscReal h[3], PetscInt ratio[3]);
+// The drag law's name (-drag_model) and whether the coupling runs on the particle grid (-couple_grid two).
+const char *CouplingDragName(const Coupling *coupling);
+PetscBool   CouplingOnParticleGrid(const Coupling *coupling);
+// Whether the next step is a gas step: the coupling counts the DEM steps of each gas step (-couple_substeps).
+PetscBool CouplingGasStepDue(const Coupling *coupling);
+// -couple_substeps changed on a restart (a rescue): the steps already taken of the current gas step are kept.
+PetscErrorCode CouplingSetSubsteps(Coupling *coupling, PetscInt substeps);
+
 // The coupling state a checkpoint needs to continue bit for bit (/coupling: per-cell sums, void fraction, the
 // DEM steps left before the next gas step); natural ordering, any number of ranks.
 PetscErrorCode CouplingWriteHDF5(Coupling *coupling, PetscViewer viewer);

@@ -110,11 +110,26 @@ struct GhostExchange {
   std::vector<PetscReal>  shift; // 3 per ghost: periodic image offset applied for binning
 };
 
+// What escaped a wall or was lost in migration: the run-time guards (src/guards) stop the run on it, so that no
+// particle is ever lost without a word.
+struct ParticleLoss {
+  PetscInt64 count    = 0;            // particles removed because they crossed a wall or a migration dropped them (global)
+  PetscInt64 first_id = -1;           // the first (smallest id) of those that crossed a wall, -1 if none
+  PetscReal  first_x[3]{0, 0, 0};     // its position, m
+  PetscBool  migration = PETSC_FALSE; // DMSwarmMigrate dropped particles (moved past a neighbouring rank)
+};
+
 struct DemStats {
-  PetscInt64 rebuilds        = 0;
-  PetscInt64 outlet_removed  = 0; // particles that left through the outlet (global, cumulative)
-  PetscInt64 contacts        = 0; // contacts counted from both sides during the last force evaluation (local)
-  PetscReal  max_overlap_rel = 0; // largest overlap / diameter since the last reset (local)
+  PetscInt64   rebuilds        = 0;
+  PetscInt64   outlet_removed  = 0; // particles that left through the outlet (global, cumulative)
+  PetscInt64   contacts        = 0; // contacts counted from both sides during the last force evaluation (local)
+  PetscReal    max_overlap_rel = 0; // largest overlap / diameter since the last monitor row (local)
+  ParticleLoss lost;
+  // For the run-time guards: maxima since the last guard check (local), reset by the guards.
+  PetscReal guard_overlap_rel = 0;           // largest overlap / smaller diameter of the pair
+  PetscReal guard_step_rel    = 0;           // largest |v| dt / d, the distance moved in one step in diameters
+  PetscBool nonfinite         = PETSC_FALSE; // a particle velocity or spin is NaN or inf (local until the step's reduction)
+  PetscBool halted            = PETSC_FALSE; // the step stopped early (a non-finite state on some rank): guards must stop the run
 };
 
 // Hook for forces other than contacts and gravity (drag, for the coupled solver): adds to the swarm's force
@@ -173,5 +188,24 @@ PetscErrorCode DemContactForces(Dem *dem);
 PetscErrorCode DemSyncPairHistory(Dem *dem);
 PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild);
 PetscErrorCode DemKick(Dem *dem);
+
+// Diagnostics for the run-time guards (src/particles/dem_diagnostics.cpp), collective, every rank gets the result:
+// a particle (its id, a partner's id or wall key, its position, the rank that owns it) where a figure is extreme.
+struct ParticleSite {
+  PetscReal   value = 0;
+  PetscInt64  id = -1, partner = -1; // partner: a particle id, a wall key (WallKey) or -1
+  PetscReal   x[3]  = {0, 0, 0};     // m
+  PetscMPIInt rank  = -1;
+  PetscInt64  count = 0; // how many particles share the fault (non-finite state)
+};
+// The contact with the largest overlap / smaller diameter of the pair (this step's positions).
+PetscErrorCode DemLocateMaxOverlap(Dem *dem, ParticleSite *site);
+// The particle that moves the most diameters in one step, |v| dt / d.
+PetscErrorCode DemLocateFastest(Dem *dem, ParticleSite *site);
+// The particles whose position, velocity, spin, force or torque is not a finite number: the smallest id in site,
+// their number in site->count, this rank's ids in ids.
+PetscErrorCode DemLocateNonFinite(Dem *dem, ParticleSite *site, std::vector<PetscInt64> *ids);
+// Kinetic (with rotation) + gravitational (above the box's lowest point) + elastic contact energy, J.
+PetscErrorCode DemMechanicalEnergy(Dem *dem, PetscReal *energy);
 
 } // namespace fluidbed

@@ -39,6 +39,8 @@ struct FluidStats {
   PetscReal  courant = 0, courant_max = 0; // dt x the combined explicit rate at the last step and its maximum (stable <= 1)
   PetscReal  courant_max_time = 0;         // s, when the maximum occurred
   PetscReal  inflow = 0, outflow = 0;      // m^3/s through the bottom (in) and the top (out)
+  PetscInt   ksp_reason   = 0;             // KSPConvergedReason of the last pressure solve (< 0: it did not converge)
+  PetscInt64 ksp_failures = 0;             // pressure solves that did not converge (the pressure guard stops the run at the first)
 };
 
 // Reads the -fluid_*, -fluid_bc_* and -inlet_* options and creates the fields; grid is the fine fluid grid.
@@ -76,8 +78,19 @@ PetscErrorCode FluidReadHDF5(Fluid *fluid, PetscViewer viewer);
 // Gas density (kg/m^3) and viscosity (Pa s), for the drag; whether the momentum equation is the seed's Model B.
 PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscReal *mu);
 PetscBool      FluidIsModelB(const Fluid *fluid);
+// The inflow a scene sets (distributor velocity, m/s, and the full inflow of all inlets, m^3/s), for the restart's
+// check that the physics did not change.
+PetscErrorCode FluidGetInflow(const Fluid *fluid, PetscReal *inlet_velocity, PetscReal *inflow_rate);
 // The inlet slits (-inlet_jets) in the order given, each as the x range [x_lo, x_hi] of its bottom cells (m).
 PetscErrorCode FluidGetJetSlots(const Fluid *fluid, std::vector<std::array<PetscReal, 2>> *slots);
+
+// For the run-time guards. Whether the face velocities, pressure and void fraction are all finite (collective), and
+// where not: the first non-finite cell in natural ordering (-1 if none) and the field's name.
+PetscErrorCode FluidCheckFinite(Fluid *fluid, PetscBool *finite, PetscInt64 *cell, const char **field);
+// The cell (natural index) whose lower face carries the largest gas speed, and that speed (collective).
+PetscErrorCode FluidLocateMaxSpeed(Fluid *fluid, PetscInt64 *cell, PetscReal *speed);
+// The pressure solver's type names and iteration limit, for messages.
+PetscErrorCode FluidPressureSolverInfo(Fluid *fluid, const char **ksp, const char **pc, PetscInt *max_it);
 
 // fluid_cells.csv in natural ordering, written by rank 0: i,j,k,x,y,z,eps,p,u,v,w (cell averages),
 // ufx,ufy,ufz (velocities on the cell's lower x, y, z faces).

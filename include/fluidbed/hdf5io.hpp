@@ -20,6 +20,10 @@ namespace fluidbed {
 // force, torque and the contact history, everything needed to continue bit for bit.
 PetscErrorCode ParticlesWriteHDF5(DM swarm, PetscViewer viewer, PetscBool full);
 
+// A per-particle dataset /particles/<name>: 1 for the particles whose id is in ids, 0 for the others (the
+// diagnostic snapshot's marks), in the rows ParticlesWriteHDF5 writes.
+PetscErrorCode ParticlesWriteFlagHDF5(DM swarm, PetscViewer viewer, const char *name, const std::vector<PetscInt64> &ids);
+
 // Reads the /particles datasets of a checkpoint written by ParticlesWriteHDF5 (any number of ranks) and gives
 // every particle to the rank that owns its particle cell. The swarm's previous particles are replaced.
 PetscErrorCode ParticlesReadHDF5(DM swarm, PetscViewer viewer, const Domain &domain, const ParticleGrid &pgrid);
@@ -31,6 +35,8 @@ struct SnapshotRecord {
   PetscInt64  particles;
 };
 
+// One Polyvertex <Grid> of a snapshot's particles: position, velocity, omega, diameter, id and the extra scalars.
+std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::vector<std::string> &extra_scalars);
 // Rewrites <dir>/particles.xmf for the whole series (rank 0).
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series);
 
@@ -44,6 +50,8 @@ struct XdmfCellField {
   std::string dataset;    // absolute HDF5 path, e.g. "/fluid/pressure", shape (Nz,) Ny, Nx[, components]
   int         components; // 1 (scalar), 3 (vector) or 2 (2D vector: given as the scalars name_x, name_y)
 };
+// The gas fields of a snapshot (FluidWriteHDF5): pressure, void fraction, velocity.
+std::vector<XdmfCellField> XdmfFluidFields(PetscInt dim);
 // One <Grid> element of n[0] x n[1] (x n[2]) cells of size h from lo, its attributes read from `file`; with a time
 // when `time` is given (an entry of a temporal collection).
 std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], const PetscReal lo[3], const PetscReal h[3],

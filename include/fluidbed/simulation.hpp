@@ -9,6 +9,7 @@
 #include "fluidbed/domain.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
+#include "fluidbed/guards.hpp"
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
 #include "fluidbed/particles.hpp"
@@ -52,19 +53,29 @@ struct Simulation {
   Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr; // particles and gas both on
   GasProbes       probes;
-  BedAverages    *averages   = nullptr; // -average: time averages and the bed measures (analysis.h5)
-  PetscInt64      step       = 0;
-  PetscReal       time       = 0.0;
-  PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)
-  double          wall_setup = 0.0, wall_run = 0.0;
+  BedAverages    *averages  = nullptr; // -average: time averages and the bed measures (analysis.h5)
+  Guards         *guards    = nullptr; // -guard_*: run-time checks that stop a run gone wrong
+  PetscInt64      step      = 0;
+  PetscReal       time      = 0.0;
+  PetscInt64      steps_run = 0; // steps taken by this run (a restart continues the count in step)
+  // With particles the time is time_origin + (step - step_origin) dt: (0, 0) unless a restart changed the time step
+  // (a rescue with another -dem_dt_factor), which starts a new origin at the checkpoint.
+  PetscInt64 step_origin = 0;
+  PetscReal  time_origin = 0.0;
+  int        exit_status = 0; // the process exit status (status.hpp): a guard's when one stopped the run
+  double     wall_setup = 0.0, wall_run = 0.0;
 };
 
-// The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step). The
-// last step of a run and the steps that write checkpoints follow this one rule, so that a run that stops at t
-// and a longer run that writes a checkpoint at t do so at the same step.
-inline PetscInt64 StepAtTime(PetscReal t, PetscReal dt)
+// The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step),
+// counted from the origin (step0, t0). The last step of a run and the steps that write checkpoints follow this one
+// rule, so that a run that stops at t and a longer run that writes a checkpoint at t do so at the same step.
+inline PetscInt64 StepAtTime(PetscReal t, PetscReal dt, PetscInt64 step0 = 0, PetscReal t0 = 0.0)
 {
-  return (PetscInt64)PetscCeilReal(t / dt - 0.5 - 1e-9);
+  return step0 + (PetscInt64)PetscCeilReal((t - t0) / dt - 0.5 - 1e-9);
+}
+inline PetscInt64 StepAtTime(const Simulation *sim, PetscReal t)
+{
+  return StepAtTime(t, sim->dem->par.dt, sim->step_origin, sim->time_origin);
 }
 
 PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);
@@ -78,7 +89,12 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
 PetscErrorCode SimulationWriteSnapshot(Simulation *sim);
 PetscErrorCode SimulationWriteCheckpoint(Simulation *sim);
 PetscErrorCode SimulationReadCheckpoint(Simulation *sim);
-// Writes what is due at the current time (snapshot, checkpoint); `last` forces a final checkpoint.
+// Writes what is due at the current time (snapshot, checkpoint); `last` forces a final checkpoint. The guards are
+// checked before a checkpoint is written, so that every checkpoint holds a state that passed them.
 PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last);
+// The diagnostic snapshot of a run a guard stopped (src/app/diagnostic.cpp): guard_failure.h5 with the particles
+// and gas as in a snapshot plus a "flagged" field (1 on the particles and gas cells the guard names), and
+// guard_failure.xmf for ParaView.
+PetscErrorCode SimulationWriteDiagnostic(Simulation *sim, const GuardTrip *trip);
 
 } // namespace fluidbed

@@ -3,9 +3,9 @@
 namespace fluidbed {
 
 const char *const PhaseNames[PHASE_COUNT] = {"Neighbour search", "Contact",  "Integrate", "Migrate", "Ghosts", "Fluid",
-                                             "Pressure",         "Coupling", "Output"};
+                                             "Pressure",         "Coupling", "Output",    "Guards"};
 const char *const PhaseKeys[PHASE_COUNT]  = {"neighbour", "contact",  "integrate", "migrate", "ghosts",
-                                             "fluid",     "pressure", "coupling",  "output"};
+                                             "fluid",     "pressure", "coupling",  "output",  "guards"};
 
 PetscErrorCode PhaseLogRegister(PhaseLog *log)
 {

@@ -49,6 +49,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   PetscCallMPI(MPI_Allreduce(sim->log.seconds, phase_max, PHASE_COUNT, MPI_DOUBLE, MPI_MAX, sim->comm));
   const double psteps = (double)tot.count * (double)sim->steps_run;
+  PetscCall(GuardsAddSummary(sim->guards, &json)); // "status" first: a study script classifies the run by it
   json.Integer("steps", (long long)sim->step);
   json.Integer("steps_this_run", (long long)sim->steps_run);
   json.Number("time", sim->time);
@@ -59,6 +60,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
     json.Integer("particles", (long long)tot.count);
     json.Integer("particles_inserted", (long long)sim->inserted.count);
     json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
+    json.Integer("particles_lost", (long long)sim->dem->stats.lost.count); // through a wall or in migration (the escape guard)
   }
   json.Integer("ranks", size);
   if (sim->dem) {
@@ -114,6 +116,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   if (sim->dem && sim->fluid)
     PetscCall(
       CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
+  PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, sim->run.couple_substeps, &sim->log, &sim->guards));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   sim->monitor.particles = sim->run.particles;
   sim->monitor.fluid     = sim->run.fluid;
@@ -146,6 +149,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(CouplingSetUp(sim->coupling)); // the gas velocity the first drag sees
   }
   if (sim->dem) PetscCall(DemSetUp(sim->dem, sim->swarm, restart));
+  PetscCall(GuardsView(sim->guards, viewer));
   if (restart)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Restart from %s at t = %.6g s, step %lld\n", sim->output.restart, (double)sim->time,
                                      (long long)sim->step));
@@ -216,7 +220,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
   const PetscReal dt_dem = dem ? dem->par.dt : 0.0;
   // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
   // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.
-  const PetscInt64 step_final = dem ? StepAtTime(sim->run.t_final, dt_dem) : PETSC_MAX_INT;
+  const PetscInt64 step_final = dem ? StepAtTime(sim, sim->run.t_final) : PETSC_MAX_INT;
   const PetscInt64 step0      = sim->step;
   const PetscInt64 step_stop  = sim->run.max_steps >= 0 ? PetscMin(step_final, step0 + sim->run.max_steps) : step_final;
   const PetscReal  time0      = sim->time;
@@ -233,34 +237,40 @@ PetscErrorCode SimulationRun(Simulation *sim)
   PetscFunctionBeginUser;
   if (dem)
     PetscCall(PetscPrintf(sim->comm, "Running %lld steps to t = %.6g s\n", (long long)PetscMax(0, step_stop - step0),
-                          (double)(step_stop * dt_dem)));
+                          (double)(sim->time_origin + (PetscReal)(step_stop - sim->step_origin) * dt_dem)));
   else
     PetscCall(PetscPrintf(sim->comm, "Running the gas to t = %.6g s%s\n", (double)sim->run.t_final,
                           sim->run.max_steps >= 0 ? " (or -max_steps)" : ""));
+  // the initial state, before anything is written from it
+  PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, PETSC_TRUE));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
   if (!restarted) { // a restart continues the files after the checkpoint's row
     PetscCall(WriteMonitorRow(sim, &tot));
     if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     sim->monitor.next = sim->time + sim->monitor.interval;
-    PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
+    if (!GuardsStopped(sim->guards)) PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
   }
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
 
-  while (!finished()) {
+  while (!finished() && !GuardsStopped(sim->guards)) {
     PetscReal dt = dt_dem;
-    if (sim->fluid && (!dem || sim->step % sub == 0)) {
+    if (sim->fluid && (!sim->coupling || CouplingGasStepDue(sim->coupling))) {
       PetscReal dt_gas = sub * dt_dem;
       if (!dem) PetscCall(GasOnlyStep(sim, &dt_gas));
       // seed chapter 5: the gas advances first, with the void fraction and exchange terms of the particles' last step
       if (sim->coupling) PetscCall(CouplingBeforeFluidStep(sim->coupling));
       PetscCall(FluidStep(sim->fluid, dt_gas));
       if (sim->coupling) PetscCall(CouplingAfterFluidStep(sim->coupling));
+      PetscCall(GuardsCheckGas(sim->guards, sim->step, sim->time + dt_gas));
       if (!dem) dt = dt_gas;
     }
+    if (GuardsStopped(sim->guards)) break;
     if (dem) {
       PetscCall(DemStep(dem));
       sim->step++;
-      sim->time = (PetscReal)sim->step * dt;
+      sim->time = sim->time_origin + (PetscReal)(sim->step - sim->step_origin) * dt;
+      PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, finished() ? PETSC_TRUE : PETSC_FALSE));
+      if (GuardsStopped(sim->guards)) break;
     } else {
       sim->step++;
       sim->time += dt;
@@ -291,10 +301,26 @@ PetscErrorCode SimulationRun(Simulation *sim)
       }
     }
   }
-  sim->wall_run  = MPI_Wtime() - t0;
-  sim->steps_run = sim->step - step0;
+  sim->wall_run    = MPI_Wtime() - t0;
+  sim->steps_run   = sim->step - step0;
+  sim->exit_status = GuardsExitStatus(sim->guards);
 
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
+  if (GuardsStopped(sim->guards)) {
+    // The state that failed, for ParaView, and its monitor row; the run's final files are not written from it (the
+    // last checkpoint, written before the failure, is the one to continue from).
+    PetscCall(WriteMonitorRow(sim, &tot));
+    PetscCall(SimulationWriteDiagnostic(sim, GuardsStopTrip(sim->guards)));
+    PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
+    PetscCall(WriteSummary(sim, tot));
+    PetscCall(
+      PetscPrintf(sim->comm, "Stopped by guard '%s' at step %lld, t = %.6g s (exit status %d): %s/guard_failure.xmf marks where%s\n",
+                  GuardNames[GuardsStopTrip(sim->guards)->kind], (long long)sim->step, (double)sim->time, sim->exit_status,
+                  sim->run.output_dir, sim->output.checkpoint_interval > 0 ? "; continue from the last checkpoint with -restart" : ""));
+    PetscFunctionReturn(0);
+  }
   if (dem && sim->run.write_particles)
     PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
   if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
@@ -302,8 +328,6 @@ PetscErrorCode SimulationRun(Simulation *sim)
   PetscCall(BedAveragesWrite(sim->averages));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
-  PetscMPIInt size;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   if (dem)
     PetscCall(PetscPrintf(
       sim->comm,
@@ -319,6 +343,9 @@ PetscErrorCode SimulationRun(Simulation *sim)
       (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
       fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
   }
+  if (!sim->guards->trips.empty())
+    PetscCall(PetscPrintf(sim->comm, "Guards tripped under -guard_action warn: %d (summary.json \"guard_trips\")\n",
+                          (int)sim->guards->trips.size()));
   PetscFunctionReturn(0);
 }
 
@@ -327,6 +354,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscFunctionBeginUser;
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
+  PetscCall(GuardsDestroy(&(*sim)->guards));
   PetscCall(BedAveragesDestroy(&(*sim)->averages));
   PetscCall(CouplingDestroy(&(*sim)->coupling));
   PetscCall(FluidDestroy(&(*sim)->fluid));

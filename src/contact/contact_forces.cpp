@@ -308,7 +308,7 @@ PetscErrorCode DemContactForces(Dem *dem)
   L.bodies       = dem->bodies.data();
   L.npairs       = (PetscInt)nl.pairs.size();
   L.contacts     = 0;
-  L.max_rel      = dem->stats.max_overlap_rel;
+  L.max_rel      = 0.0;
 
   PetscCall(ParticleArraysGet(dem->swarm, &L.p));
   // Each pair once, in the storage order of the particles that evaluate it; each particle summed right after
@@ -320,8 +320,9 @@ PetscErrorCode DemContactForces(Dem *dem)
       PetscCall(SumParticle(L, nl.finish[(std::size_t)k]));
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &L.p));
-  dem->stats.contacts        = L.contacts;
-  dem->stats.max_overlap_rel = L.max_rel;
+  dem->stats.contacts          = L.contacts;
+  dem->stats.max_overlap_rel   = PetscMax(dem->stats.max_overlap_rel, L.max_rel);
+  dem->stats.guard_overlap_rel = PetscMax(dem->stats.guard_overlap_rel, L.max_rel);
   if (dem->external) PetscCall(dem->external(dem->external_ctx, dem->swarm, dem->bodies.data()));
   PetscFunctionReturn(0);
 }

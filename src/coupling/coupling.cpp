@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace fluidbed {
@@ -184,23 +185,27 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
   PetscCall(VecZeroEntries(c->deposit));
   PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
 
-  PetscReal  lo = 1.0, hi = 0.0;
+  PetscReal  lo[2] = {1.0, 1.0}, hi = 0.0; // least eps after and before the floor, largest eps
   PetscInt64 clamped = 0;
   PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
   PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
     PetscReal eps = 1.0 - d(i, j, k, 0) / c->cell_volume;
+    lo[1]         = PetscMin(lo[1], eps);
     if (eps < c->eps_min) {
       eps = c->eps_min;
       ++clamped;
     }
     g(i, j, k, 0) = eps;
-    lo            = PetscMin(lo, eps);
+    lo[0]         = PetscMin(lo[0], eps);
     hi            = PetscMax(hi, eps);
   });
   PetscCall(ViewRestore(c->gas, &g));
   PetscCall(ViewRestore(c->deposit, &d));
-  PetscCallMPI(MPI_Allreduce(&lo, &c->stats.eps_min, 1, MPIU_REAL, MPI_MIN, c->comm));
+  PetscReal glo[2];
+  PetscCallMPI(MPI_Allreduce(lo, glo, 2, MPIU_REAL, MPI_MIN, c->comm));
+  c->stats.eps_min     = glo[0];
+  c->stats.eps_raw_min = glo[1];
   PetscCallMPI(MPI_Allreduce(&hi, &c->stats.eps_max, 1, MPIU_REAL, MPI_MAX, c->comm));
   PetscCallMPI(MPI_Allreduce(&clamped, &c->stats.clamped, 1, MPIU_INT64, MPI_SUM, c->comm));
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
@@ -340,6 +345,7 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
       for (PetscInt r = 0; r < pg.procs[a]; ++r) own[a].push_back(two ? pg.start[a][r + 1] - pg.start[a][r] : fg.own[a][(std::size_t)r]);
   }
   c->cell_volume     = c->h[0] * c->h[1] * c->h[2];
+  c->stats.cells     = (PetscInt64)c->n[0] * c->n[1] * (c->dim == 3 ? c->n[2] : 1);
   const PetscInt dof = 2 + c->dim;
   if (c->dim == 2)
     PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], pg.procs[0], pg.procs[1], dof, 1,
@@ -468,6 +474,68 @@ PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/coupling", "until_gas", PETSC_INT, NULL, &c->until_gas));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingFloorCells(Coupling *c, std::vector<PetscInt64> *fluid_cells, PetscInt first[3])
+{
+  CellView         g;
+  const PetscInt64 none = INT64_MAX;
+  PetscInt64       lo   = none, glo;
+  const PetscInt  *fn   = c->grids->fluid.n;
+
+  PetscFunctionBeginUser;
+  fluid_cells->clear();
+  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
+  ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
+    if (g(i, j, k, 0) > c->eps_min) return;
+    lo = PetscMin(lo, (PetscInt64)i + (PetscInt64)c->n[0] * ((PetscInt64)j + (PetscInt64)c->n[1] * (PetscInt64)k));
+    for (PetscInt kk = k * c->ratio[2]; kk < (k + 1) * c->ratio[2]; ++kk)
+      for (PetscInt jj = j * c->ratio[1]; jj < (j + 1) * c->ratio[1]; ++jj)
+        for (PetscInt ii = i * c->ratio[0]; ii < (i + 1) * c->ratio[0]; ++ii)
+          fluid_cells->push_back((PetscInt64)ii + (PetscInt64)fn[0] * ((PetscInt64)jj + (PetscInt64)fn[1] * (PetscInt64)kk));
+  });
+  PetscCall(ViewRestore(c->gas, &g));
+  PetscCallMPI(MPI_Allreduce(&lo, &glo, 1, MPIU_INT64, MPI_MIN, c->comm));
+  if (glo == none) first[0] = first[1] = first[2] = -1;
+  else {
+    first[0] = (PetscInt)(glo % c->n[0]);
+    first[1] = (PetscInt)((glo / c->n[0]) % c->n[1]);
+    first[2] = (PetscInt)(glo / ((PetscInt64)c->n[0] * c->n[1]));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCellSize(const Coupling *c, PetscReal h[3], PetscInt ratio[3])
+{
+  PetscFunctionBeginUser;
+  for (int a = 0; a < 3; ++a) {
+    h[a]     = c->h[a];
+    ratio[a] = c->ratio[a];
+  }
+  PetscFunctionReturn(0);
+}
+
+const char *CouplingDragName(const Coupling *c)
+{
+  return c->drag_name;
+}
+
+PetscBool CouplingOnParticleGrid(const Coupling *c)
+{
+  return c->mode == COUPLING_GRID_TWO ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscBool CouplingGasStepDue(const Coupling *c)
+{
+  return c->until_gas <= 0 ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode CouplingSetSubsteps(Coupling *c, PetscInt substeps)
+{
+  PetscFunctionBeginUser;
+  c->substeps  = substeps;
+  c->until_gas = PetscMin(c->until_gas, substeps);
   PetscFunctionReturn(0);
 }
 

@@ -296,16 +296,10 @@ PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
   PetscCall(FluidScatterVelocity(f));
   {
     // In coupled runs the step is fixed (DEM step x -couple_substeps) while the gas speeds up in jets and bubbles:
-    // measure how close it is to the explicit limit and warn the first time it is exceeded.
+    // measure how close it is to the explicit limit (the Courant guard, src/guards, warns and stops on it).
     kernels::StepRates r;
     PetscCall(FluidStepRates(f, &r));
     f->stats.courant = dt * (r.conv + r.visc);
-    if (f->stats.courant > 1 && f->stats.courant_max <= 1)
-      PetscCall(
-        PetscPrintf(f->comm,
-                    "WARNING: gas step %.4g s exceeds the explicit stability limit %.4g s at t = %.6g s (largest gas speed %.4g m/s); "
-                    "lower -couple_substeps (or -fluid_dt)\n",
-                    (double)dt, (double)(1.0 / (r.conv + r.visc)), (double)f->time, (double)f->stats.max_speed));
     if (f->stats.courant > f->stats.courant_max) {
       f->stats.courant_max      = f->stats.courant;
       f->stats.courant_max_time = f->time;

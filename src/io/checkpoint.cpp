@@ -3,6 +3,8 @@
 #include "fluidbed/simulation.hpp"
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace fluidbed {
 
@@ -21,6 +23,126 @@ PetscErrorCode ReadCount(PetscViewer viewer, const char *name, PetscInt64 *value
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", name, PETSC_REAL, NULL, &v));
   *value = (PetscInt64)v;
+  PetscFunctionReturn(0);
+}
+PetscErrorCode HasAttribute(PetscViewer viewer, const char *name, PetscBool *has)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5HasAttribute(viewer, "/", name, has));
+  PetscFunctionReturn(0);
+}
+
+// What a checkpoint's state was made with and a restart may not change: the physics (domain, particles, contacts,
+// gas, drag) and the layout of the saved fields (grids). Written as attributes scene_<key>; a rescue restart may
+// change everything else (the time step, substeps, solvers, tolerances, guards, outputs).
+struct SceneValue {
+  std::string key, option; // attribute key, and the option a user changes
+  PetscReal   value = 0;
+  std::string text; // for named choices (is_text)
+  bool        is_text = false;
+};
+
+std::vector<SceneValue> SceneValues(const Simulation *sim)
+{
+  std::vector<SceneValue> v;
+  auto                    num     = [&](const char *key, const char *option, PetscReal x) { v.push_back({key, option, x, "", false}); };
+  const Domain           &d       = sim->domain;
+  const char             *axes[3] = {"x", "y", "z"};
+  num("domain_lx", "-domain_lx", d.len[0]);
+  num("domain_ly", "-domain_ly", d.len[1]);
+  num("domain_lz", "-domain_lz", d.len[2]);
+  for (int a = 0; a < 3; ++a) {
+    num((std::string("domain_periodic_") + axes[a]).c_str(), (std::string("-domain_periodic_") + axes[a]).c_str(), d.periodic[a] ? 1 : 0);
+    num((std::string("gravity_") + axes[a]).c_str(), "-gravity", d.gravity[a]);
+    num((std::string("grid_n") + axes[a]).c_str(), (std::string("-grid_n") + axes[a]).c_str(), (PetscReal)sim->grids.fluid.n[a]);
+    num((std::string("pgrid_ratio_") + axes[a]).c_str(), "-pgrid_ratio", (PetscReal)sim->grids.particle.ratio[a]);
+  }
+  num("domain_top_outlet", "-domain_top_outlet", d.top_outlet ? 1 : 0);
+  if (sim->dem) {
+    const DemParams &p = sim->dem->par;
+    num("particle_diameter_min", "-particle_diameter_min", sim->props.d_min);
+    num("particle_diameter_max", "-particle_diameter_max", sim->props.d_max);
+    num("particle_density", "-particle_density", sim->props.density);
+    num("dem_kn", "-dem_kn", p.pp.kn);
+    num("dem_kt", "-dem_kt", p.pp.kt);
+    num("dem_e", "-dem_e", p.e);
+    num("dem_mu", "-dem_mu", p.pp.mu);
+    num("wall_kn", "-wall_kn", p.pw.kn);
+    num("wall_kt", "-wall_kt", p.pw.kt);
+    num("wall_e", "-wall_e", p.wall_e);
+    num("wall_mu", "-wall_mu", p.pw.mu);
+    num("dem_pseudo2d", "-dem_pseudo2d", p.pseudo2d ? 1 : 0);
+  }
+  if (sim->fluid) {
+    PetscReal rho, mu, u_in, q_in;
+    FluidGetGasProperties(sim->fluid, &rho, &mu);
+    FluidGetInflow(sim->fluid, &u_in, &q_in);
+    num("fluid_rho", "-fluid_rho", rho);
+    num("fluid_mu", "-fluid_mu", mu);
+    num("fluid_model_b", "-fluid_model", FluidIsModelB(sim->fluid) ? 1 : 0);
+    num("inlet_velocity", "-inlet_velocity", u_in);
+    num("inlet_flow", "-inlet_velocity / -inlet_jets", q_in);
+  }
+  if (sim->coupling) {
+    num("couple_grid_two", "-couple_grid", CouplingOnParticleGrid(sim->coupling) ? 1 : 0);
+    v.push_back({"drag_model", "-drag_model", 0, CouplingDragName(sim->coupling), true});
+  }
+  return v;
+}
+
+PetscErrorCode WriteScene(const Simulation *sim, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  for (const SceneValue &x : SceneValues(sim)) {
+    const std::string name = "scene_" + x.key;
+    if (x.is_text) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", name.c_str(), PETSC_STRING, x.text.c_str()));
+    else PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", name.c_str(), PETSC_REAL, &x.value));
+  }
+  PetscFunctionReturn(0);
+}
+
+std::string Show(PetscReal x)
+{
+  char buf[64];
+  snprintf(buf, sizeof(buf), "%.10g", (double)x);
+  return buf;
+}
+
+// Compares the options' scene with the checkpoint's; sets *has to whether the checkpoint records one (older
+// checkpoints do not).
+PetscErrorCode CheckScene(const Simulation *sim, PetscViewer viewer, const char *file, PetscBool *has)
+{
+  PetscFunctionBeginUser;
+  PetscCall(HasAttribute(viewer, "scene_domain_lx", has));
+  if (!*has) PetscFunctionReturn(0);
+  for (const SceneValue &x : SceneValues(sim)) {
+    const std::string name = "scene_" + x.key;
+    PetscBool         present;
+    std::string       saved, now;
+    PetscCall(HasAttribute(viewer, name.c_str(), &present));
+    if (!present) {
+      saved = "(none)";
+      now   = x.is_text ? x.text : Show(x.value);
+    } else if (x.is_text) {
+      char *t = NULL;
+      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", name.c_str(), PETSC_STRING, NULL, &t));
+      saved = t;
+      now   = x.text;
+      PetscCall(PetscFree(t));
+      if (saved == now) continue;
+    } else {
+      PetscReal y;
+      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", name.c_str(), PETSC_REAL, NULL, &y));
+      if (PetscAbsReal(y - x.value) <= 1e-12 * PetscMax(PetscAbsReal(y), PetscAbsReal(x.value))) continue;
+      saved = Show(y);
+      now   = Show(x.value);
+    }
+    SETERRQ(sim->comm, PETSC_ERR_USER_INPUT,
+            "-restart %s was written with %s %s, the options give %s: it sets the physics or the layout of the saved state and cannot "
+            "change on a restart (a rescue may change -dem_dt_factor, -couple_substeps, the -fluid_p_ solver options, -fluid_cfl, "
+            "-guard_* and the outputs)",
+            file, x.option.c_str(), saved.c_str(), now.c_str());
+  }
   PetscFunctionReturn(0);
 }
 } // namespace
@@ -90,7 +212,16 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
   if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
-  if (sim->dem) PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+  if (sim->dem) {
+    PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+    PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
+    PetscCall(WriteCount(viewer, "particles_lost", sim->dem->stats.lost.count));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &sim->dem->par.dt_factor));
+  }
+  PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &sim->run.couple_substeps));
+  PetscCall(WriteScene(sim, viewer));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
@@ -138,18 +269,38 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
   PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,
              (int)sim->domain.dim);
-  if (sim->dem) {
-    PetscBool has_dt;
-    PetscCall(PetscViewerHDF5HasAttribute(viewer, "/", "dt", &has_dt));
-    PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
-    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
-    PetscCheck(PetscAbsReal(dt - sim->dem->par.dt) <= 1e-12 * dt, sim->comm, PETSC_ERR_USER_INPUT,
-               "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
-               o.restart, (double)dt, (double)sim->dem->par.dt);
-    PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
-  }
+  PetscBool has_scene, has, new_dt = PETSC_FALSE;
+  PetscCall(CheckScene(sim, viewer, o.restart, &has_scene));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
   PetscCall(ReadCount(viewer, "step", &sim->step));
+  PetscCall(HasAttribute(viewer, "step_origin", &has));
+  if (has) {
+    PetscCall(ReadCount(viewer, "step_origin", &sim->step_origin));
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time_origin", PETSC_REAL, NULL, &sim->time_origin));
+  }
+  if (sim->dem) {
+    PetscBool has_dt;
+    PetscCall(HasAttribute(viewer, "dt", &has_dt));
+    PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
+    new_dt = (PetscBool)(PetscAbsReal(dt - sim->dem->par.dt) > 1e-12 * dt);
+    // a checkpoint that does not record its scene cannot tell a new time step from new physics
+    PetscCheck(!new_dt || has_scene, sim->comm, PETSC_ERR_USER_INPUT,
+               "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
+               o.restart, (double)dt, (double)sim->dem->par.dt);
+    if (new_dt) {
+      // a rescue with another -dem_dt_factor: the steps count on from the checkpoint with the new length
+      PetscReal factor = 0;
+      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, NULL, &factor));
+      sim->step_origin = sim->step;
+      sim->time_origin = sim->time;
+      PetscCall(PetscPrintf(sim->comm, "Restart with a new time step: dt %.6g s -> %.6g s (-dem_dt_factor %.6g -> %.6g)\n", (double)dt,
+                            (double)sim->dem->par.dt, (double)factor, (double)sim->dem->par.dt_factor));
+    }
+    PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
+    PetscCall(HasAttribute(viewer, "particles_lost", &has));
+    if (has) PetscCall(ReadCount(viewer, "particles_lost", &sim->dem->stats.lost.count));
+  }
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshot_next", PETSC_REAL, NULL, &o.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
@@ -178,7 +329,13 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   }
   if (sim->swarm) {
     PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
-    PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
+    // inserted = present + left through the outlet + lost, across restarts
+    PetscCall(HasAttribute(viewer, "particles_inserted", &has));
+    if (has) PetscCall(ReadCount(viewer, "particles_inserted", &sim->inserted.count));
+    else {
+      PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
+      sim->inserted.count += sim->dem->stats.outlet_removed;
+    }
   }
   if (sim->fluid) {
     PetscBool has;
@@ -186,7 +343,17 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
     PetscCall(FluidReadHDF5(sim->fluid, viewer));
   }
-  if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
+  if (sim->coupling) {
+    PetscInt substeps = sim->run.couple_substeps;
+    PetscCall(CouplingReadHDF5(sim->coupling, viewer));
+    PetscCall(HasAttribute(viewer, "couple_substeps", &has));
+    if (has) PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "couple_substeps", PETSC_INT, NULL, &substeps));
+    if (substeps != sim->run.couple_substeps) {
+      PetscCall(CouplingSetSubsteps(sim->coupling, sim->run.couple_substeps));
+      PetscCall(PetscPrintf(sim->comm, "Restart with -couple_substeps %d (the checkpoint's run had %d)\n", (int)sim->run.couple_substeps,
+                            (int)substeps));
+    }
+  }
   PetscCall(BedAveragesReadHDF5(sim->averages, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
@@ -203,9 +370,12 @@ PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
     PetscCall(SimulationWriteSnapshot(sim));
     while (o.next <= sim->time + eps) o.next += o.interval;
   }
-  const PetscBool checkpoint_due = (PetscBool)(o.checkpoint_interval > 0 && (sim->dem ? sim->step >= StepAtTime(o.next_checkpoint, dt)
+  const PetscBool checkpoint_due = (PetscBool)(o.checkpoint_interval > 0 && (sim->dem ? sim->step >= StepAtTime(sim, o.next_checkpoint)
                                                                                       : sim->time >= o.next_checkpoint - eps));
   if (o.checkpoint_interval > 0 && (checkpoint_due || last)) {
+    // a checkpoint only of a state that passes the guards: it is what a rescue continues from
+    PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, PETSC_TRUE));
+    if (GuardsStopped(sim->guards)) PetscFunctionReturn(0);
     while (o.next_checkpoint <= sim->time + eps) o.next_checkpoint += o.checkpoint_interval;
     PetscCall(SimulationWriteCheckpoint(sim));
   }

@@ -1,6 +1,7 @@
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/fluid.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -71,6 +72,24 @@ PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
   }
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(ParticleArraysRestore(sw, &p));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ParticlesWriteFlagHDF5(DM sw, PetscViewer viewer, const char *name, const std::vector<PetscInt64> &ids)
+{
+  MPI_Comm               comm = PetscObjectComm((PetscObject)sw);
+  ParticleArrays         p;
+  std::vector<PetscReal> flag;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticleArraysGet(sw, &p));
+  flag.assign((std::size_t)p.n, 0.0);
+  for (PetscInt i = 0; i < p.n; ++i)
+    if (std::find(ids.begin(), ids.end(), p.id[i]) != ids.end()) flag[(std::size_t)i] = 1.0;
+  PetscCall(ParticleArraysRestore(sw, &p));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  PetscCall(WriteRows(viewer, comm, name, 1, (PetscInt)flag.size(), flag.data()));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscFunctionReturn(0);
 }
 
@@ -254,6 +273,30 @@ std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], co
   return x.str();
 }
 
+std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::vector<std::string> &extra_scalars)
+{
+  std::ostringstream x;
+  auto               item = [&](const char *name, int comps) {
+    std::ostringstream d;
+    d << "<DataItem Dimensions=\"" << s.particles;
+    if (comps > 1) d << " " << comps;
+    d << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/particles/" << name << "</DataItem>";
+    return d.str();
+  };
+  x << "   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n";
+  x << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << s.particles << "\" NodesPerElement=\"1\"/>\n";
+  x << "    <Geometry GeometryType=\"" << (dim == 3 ? "XYZ" : "XY") << "\">" << item("position", (int)dim) << "</Geometry>\n";
+  const char *vec[] = {"velocity", "omega"};
+  for (const char *v : vec)
+    x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Vector\" Center=\"Node\">" << item(v, 3) << "</Attribute>\n";
+  std::vector<std::string> scal = {"diameter", "id"};
+  scal.insert(scal.end(), extra_scalars.begin(), extra_scalars.end());
+  for (const std::string &v : scal)
+    x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Scalar\" Center=\"Node\">" << item(v.c_str(), 1) << "</Attribute>\n";
+  x << "   </Grid>\n";
+  return x.str();
+}
+
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series)
 {
   PetscMPIInt rank;
@@ -261,27 +304,15 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
-  std::ostringstream x;
-  auto               item = [&](const SnapshotRecord &s, const char *name, int comps) {
-    std::ostringstream d;
-    d << "<DataItem Dimensions=\"" << s.particles;
-    if (comps > 1) d << " " << comps;
-    d << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/particles/" << name << "</DataItem>";
-    return d.str();
-  };
-  for (const SnapshotRecord &s : series) {
-    x << "   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n";
-    x << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << s.particles << "\" NodesPerElement=\"1\"/>\n";
-    x << "    <Geometry GeometryType=\"" << (dim == 3 ? "XYZ" : "XY") << "\">" << item(s, "position", (int)dim) << "</Geometry>\n";
-    const char *vec[] = {"velocity", "omega"}, *scal[] = {"diameter", "id"};
-    for (const char *v : vec)
-      x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Vector\" Center=\"Node\">" << item(s, v, 3) << "</Attribute>\n";
-    for (const char *v : scal)
-      x << "    <Attribute Name=\"" << v << "\" AttributeType=\"Scalar\" Center=\"Node\">" << item(s, v, 1) << "</Attribute>\n";
-    x << "   </Grid>\n";
-  }
-  PetscCall(XdmfWriteFile(comm, dir + "/particles.xmf", XdmfDocument(x.str(), "particles")));
+  std::string grids;
+  for (const SnapshotRecord &s : series) grids += XdmfParticleGrid(s, dim, {});
+  PetscCall(XdmfWriteFile(comm, dir + "/particles.xmf", XdmfDocument(grids, "particles")));
   PetscFunctionReturn(0);
+}
+
+std::vector<XdmfCellField> XdmfFluidFields(PetscInt dim)
+{
+  return {{"pressure", "/fluid/pressure", 1}, {"void_fraction", "/fluid/void_fraction", 1}, {"velocity", "/fluid/velocity", (int)dim}};
 }
 
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid,
@@ -292,9 +323,8 @@ PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domai
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
-  const std::vector<XdmfCellField> fields = {
-    {"pressure", "/fluid/pressure", 1}, {"void_fraction", "/fluid/void_fraction", 1}, {"velocity", "/fluid/velocity", (int)dom.dim}};
-  std::string grids;
+  const std::vector<XdmfCellField> fields = XdmfFluidFields(dom.dim);
+  std::string                      grids;
   for (const SnapshotRecord &s : series) grids += XdmfCellGrid("gas", dom.dim, grid.n, dom.lo, grid.h, s.file, fields, &s.time);
   PetscCall(XdmfWriteFile(comm, dir + "/fluid.xmf", XdmfDocument(grids, "gas")));
   PetscFunctionReturn(0);

@@ -75,17 +75,24 @@ PetscErrorCode DemSetUp(Dem *dem, DM swarm, PetscBool restart)
 
 PetscErrorCode DemStep(Dem *dem)
 {
-  PetscBool need_local, need;
+  PetscBool local[2], any[2]; // a rebuild is needed; a velocity or spin is not a number
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(dem->log, PHASE_INTEGRATE));
-  PetscCall(DemKickDrift(dem, &need_local));
+  PetscCall(DemKickDrift(dem, &local[0]));
   PetscCall(PhaseEnd(dem->log, PHASE_INTEGRATE));
 
   PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
-  PetscCallMPI(MPI_Allreduce(&need_local, &need, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)dem->swarm)));
+  local[1] = dem->stats.nonfinite;
+  PetscCallMPI(MPI_Allreduce(local, any, 2, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)dem->swarm)));
   PetscCall(PhaseEnd(dem->log, PHASE_NEIGHBOUR));
-  if (need) PetscCall(Rebuild(dem));
+  if (any[1]) {
+    // Nothing after a NaN is meaningful, and migration cannot place a particle at NaN: stop the step here and let
+    // the guards report the state as it is.
+    dem->stats.halted = PETSC_TRUE;
+    PetscFunctionReturn(0);
+  }
+  if (any[0]) PetscCall(Rebuild(dem));
   else {
     PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
     PetscCall(DemPackBodies(dem));

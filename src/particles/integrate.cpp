@@ -4,6 +4,7 @@
 #include "fluidbed/kernels/periodic.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace fluidbed {
@@ -56,9 +57,12 @@ PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
   const PetscReal dt = dem->par.dt, h = 0.5 * dt;
   const bool      planar = dom.dim == 2 || dem->par.pseudo2d;
   const PetscReal lim2   = 0.25 * dem->skin * dem->skin;
+  const PetscReal outlet = dom.top_outlet ? dom.hi[1] : PETSC_MAX_REAL;
   ParticleArrays  p;
   PetscBool       rebuild = PETSC_FALSE;
   MassTerms       mt{*dem->props};
+  PetscReal       step2  = 0.0; // largest (|v| dt / d)^2 of this step
+  bool            finite = true;
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
@@ -84,8 +88,16 @@ PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
       d2 += dx * dx;
     }
     if (d2 > lim2) rebuild = PETSC_TRUE;
+    // a particle past the outlet leaves in this step: the rebuild removes and counts it (DemMigrate)
+    if (p.x[dim * i + 1] >= outlet) rebuild = PETSC_TRUE;
+    // for the guards: the step's largest move in diameters, and whether the motion is still a number
+    const PetscReal v2 = kernels::dot(v, v), s2 = v2 * (dt * dt) / (p.d[i] * p.d[i]);
+    step2  = PetscMax(step2, s2);
+    finite = finite && std::isfinite(v2 + kernels::dot(w, w));
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  dem->stats.guard_step_rel = PetscMax(dem->stats.guard_step_rel, PetscSqrtReal(step2));
+  if (!finite) dem->stats.nonfinite = PETSC_TRUE;
   *need_rebuild = rebuild;
   PetscFunctionReturn(0);
 }
@@ -96,6 +108,7 @@ PetscErrorCode DemKick(Dem *dem)
   const bool      planar = dem->dom->dim == 2 || dem->par.pseudo2d;
   ParticleArrays  p;
   MassTerms       mt{*dem->props};
+  bool            finite = true;
 
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(dem->swarm, &p));
@@ -108,8 +121,10 @@ PetscErrorCode DemKick(Dem *dem)
     if (planar) ConstrainPlanar(v, w);
     Store3(p.v, i, v);
     Store3(p.w, i, w);
+    finite = finite && std::isfinite(kernels::dot(v, v) + kernels::dot(w, w));
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  if (!finite) dem->stats.nonfinite = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

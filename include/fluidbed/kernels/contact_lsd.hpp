@@ -156,4 +156,12 @@ inline Vec3 damping_impulse_correction(double eta_n, double overlap_prev, double
   return (-eta_n * (overlap_now - overlap_prev) - half_dt * (damping_prev + damping_now)) * n;
 }
 
+// Elastic energy held by one contact's springs, 1/2 k_n delta^2 + 1/2 k_t |xi_t|^2 (J): with the kinetic and the
+// gravitational energy it is what the contacts conserve at e = 1 and mu = 0 and only lose otherwise (the energy
+// guard, kernels/guard_rules.hpp).
+inline double lsd_elastic_energy(const LsdModel &m, double overlap, const Vec3 &xi_t)
+{
+  return 0.5 * m.kn * overlap * overlap + 0.5 * m.kt * norm2(xi_t);
+}
+
 } // namespace fluidbed::kernels

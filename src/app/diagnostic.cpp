@@ -1,0 +1,87 @@
+// The diagnostic snapshot of a run a guard stopped: the failed state as a snapshot holds it, with the particles and
+// gas cells the guard names marked (a "flagged" field, 1 on them), in one XDMF file that ParaView opens.
+#include "fluidbed/simulation.hpp"
+
+#include <sstream>
+
+namespace fluidbed {
+
+namespace {
+
+// /fluid/flagged on the gas grid: 1 on this rank's owned cells among `cells` (natural indices).
+PetscErrorCode WriteFlaggedCells(Simulation *sim, PetscViewer viewer, const std::vector<PetscInt64> &cells)
+{
+  DM              da;
+  Vec             flag;
+  PetscInt        xs[3] = {0, 0, 0}, xm[3] = {1, 1, 1};
+  const PetscInt *n = sim->grids.fluid.n;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidGetCellDMs(sim->fluid, &da, NULL));
+  PetscCall(DMCreateGlobalVector(da, &flag));
+  PetscCall(PetscObjectSetName((PetscObject)flag, "flagged"));
+  PetscCall(VecZeroEntries(flag));
+  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
+  if (sim->domain.dim == 2) {
+    xs[2] = 0;
+    xm[2] = 1;
+  }
+  {
+    PetscScalar *a;
+    PetscCall(VecGetArray(flag, &a));
+    for (PetscInt64 c : cells) {
+      if (c < 0) continue;
+      const PetscInt i = (PetscInt)(c % n[0]), j = (PetscInt)((c / n[0]) % n[1]), k = (PetscInt)(c / ((PetscInt64)n[0] * n[1]));
+      if (i < xs[0] || i >= xs[0] + xm[0] || j < xs[1] || j >= xs[1] + xm[1] || k < xs[2] || k >= xs[2] + xm[2]) continue;
+      a[((k - xs[2]) * xm[1] + (j - xs[1])) * xm[0] + (i - xs[0])] = 1.0;
+    }
+    PetscCall(VecRestoreArray(flag, &a));
+  }
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
+  PetscCall(VecView(flag, viewer)); // natural ordering, as the other gas fields
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(VecDestroy(&flag));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode SimulationWriteDiagnostic(Simulation *sim, const GuardTrip *trip)
+{
+  const std::string dir = sim->run.output_dir, file = "guard_failure.h5";
+  PetscViewer       viewer;
+  PetscInt64        n    = 0;
+  const PetscReal   step = (PetscReal)sim->step;
+
+  PetscFunctionBeginUser;
+  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
+  PetscCall(PetscViewerHDF5Open(sim->comm, (dir + "/" + file + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "step", PETSC_REAL, &step));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "guard", PETSC_STRING, GuardNames[trip->kind]));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "message", PETSC_STRING, (trip->what + "; " + trip->where).c_str()));
+  if (sim->swarm) {
+    PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+    PetscCall(ParticlesWriteFlagHDF5(sim->swarm, viewer, "flagged", trip->particles));
+  }
+  if (sim->fluid) {
+    PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
+    PetscCall(WriteFlaggedCells(sim, viewer, trip->fluid_cells));
+  }
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCall(CommitFile(sim->comm, dir + "/" + file));
+
+  std::string grids;
+  if (sim->swarm) grids += XdmfParticleGrid({sim->time, file, n}, sim->domain.dim, {"flagged"});
+  if (sim->fluid) {
+    std::vector<XdmfCellField> fields = XdmfFluidFields(sim->domain.dim);
+    fields.push_back({"flagged", "/fluid/flagged", 1});
+    grids += XdmfCellGrid("gas", sim->domain.dim, sim->grids.fluid.n, sim->domain.lo, sim->grids.fluid.h, file, fields, &sim->time);
+  }
+  std::ostringstream doc;
+  doc << "  <Grid Name=\"guard_failure\" GridType=\"Collection\" CollectionType=\"Spatial\">\n" << grids << "  </Grid>\n";
+  PetscCall(XdmfWriteFile(sim->comm, dir + "/guard_failure.xmf", XdmfDocument(doc.str(), NULL)));
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed
