@@ -78,9 +78,6 @@ PetscErrorCode FluidReadHDF5(Fluid *fluid, PetscViewer viewer);
 // Gas density (kg/m^3) and viscosity (Pa s), for the drag; whether the momentum equation is the seed's Model B.
 PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscReal *mu);
 PetscBool      FluidIsModelB(const Fluid *fluid);
-// The inflow a scene sets (distributor velocity, m/s, and the full inflow of all inlets, m^3/s), for the restart's
-// check that the physics did not change.
-PetscErrorCode FluidGetInflow(const Fluid *fluid, PetscReal *inlet_velocity, PetscReal *inflow_rate);
 // The inlet slits (-inlet_jets) in the order given, each as the x range [x_lo, x_hi] of its bottom cells (m).
 PetscErrorCode FluidGetJetSlots(const Fluid *fluid, std::vector<std::array<PetscReal, 2>> *slots);
 

@@ -31,6 +31,8 @@ struct Monitor {
   PetscReal                interval = 0, next = 0;
   bool                     particles = true, fluid = false; // column groups, set before MonitorCreate
   std::vector<std::string> extra_columns;                   // further columns (coupling, probes), set before MonitorCreate
+  std::string              dir;                             // where the files are
+  PetscInt64               last_row_step = -1;              // the step of the last row written
 };
 
 // append: continue the files of a restarted run instead of starting them anew.
@@ -40,6 +42,9 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
                             const FluidStats *fluid = nullptr, const std::vector<PetscReal> *extra = nullptr);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
+// A restart continues the files after the checkpoint: rows of later steps (written by the run being continued, e.g.
+// one a guard stopped after its last checkpoint) are dropped first.
+PetscErrorCode MonitorTruncate(MPI_Comm comm, Monitor *m, PetscInt64 step);
 PetscErrorCode MonitorDestroy(Monitor *m);
 
 // particles.csv sorted by id: id,d,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz (readable by -insert_type file).

@@ -132,8 +132,10 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   }
   PetscCall(BedAveragesCreate(sim, &sim->averages));
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
-  if (restart) PetscCall(SimulationReadCheckpoint(sim));
-  else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  if (restart) {
+    PetscCall(SimulationReadCheckpoint(sim));
+    PetscCall(MonitorTruncate(sim->comm, &sim->monitor, sim->step));
+  } else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
@@ -311,7 +313,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
   if (GuardsStopped(sim->guards)) {
     // The state that failed, for ParaView, and its monitor row; the run's final files are not written from it (the
     // last checkpoint, written before the failure, is the one to continue from).
-    PetscCall(WriteMonitorRow(sim, &tot));
+    if (sim->monitor.last_row_step != sim->step) PetscCall(WriteMonitorRow(sim, &tot));
     PetscCall(SimulationWriteDiagnostic(sim, GuardsStopTrip(sim->guards)));
     PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
     PetscCall(WriteSummary(sim, tot));

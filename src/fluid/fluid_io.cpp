@@ -66,14 +66,6 @@ PetscErrorCode FluidGetGasProperties(const Fluid *f, PetscReal *rho, PetscReal *
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidGetInflow(const Fluid *f, PetscReal *inlet_velocity, PetscReal *inflow_rate)
-{
-  PetscFunctionBeginUser;
-  *inlet_velocity = f->inlet_velocity;
-  *inflow_rate    = f->inflow_rate;
-  PetscFunctionReturn(0);
-}
-
 PetscBool FluidIsModelB(const Fluid *f)
 {
   return f->model == FLUID_MODEL_B ? PETSC_TRUE : PETSC_FALSE;

@@ -305,14 +305,18 @@ PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid
   PetscEnum action = (PetscEnum)g->opt.action;
 
   PetscFunctionBeginUser;
-  g->comm         = comm;
-  g->dom          = &domain;
-  g->dem          = dem;
-  g->fluid        = fluid;
-  g->coupling     = coupling;
-  g->log          = log;
-  g->substeps     = substeps;
-  g->closed       = (PetscBool)(dem && !fluid); // pure DEM: walls at rest, nothing flows in
+  g->comm     = comm;
+  g->dom      = &domain;
+  g->dem      = dem;
+  g->fluid    = fluid;
+  g->coupling = coupling;
+  g->log      = log;
+  g->substeps = substeps;
+  // Pure DEM, walls at rest, nothing flows in: the energy cannot grow. Not with gravity along a periodic direction,
+  // where particles fall without end (the gravitational energy jumps at each wrap).
+  g->closed = (PetscBool)(dem && !fluid);
+  for (int a = 0; a < domain.dim; ++a)
+    if (domain.periodic[a] && domain.gravity[a] != 0) g->closed = PETSC_FALSE;
   GuardOptions &o = g->opt;
   PetscOptionsBegin(comm, "guard_", "Run-time guards: stop a run whose state went wrong (docs/reliability.md)", "Guards");
   PetscCall(PetscOptionsBool("-enable", "Check the guards below during the run", "", o.enable, &o.enable, NULL));

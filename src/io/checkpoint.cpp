@@ -73,15 +73,14 @@ std::vector<SceneValue> SceneValues(const Simulation *sim)
     num("wall_mu", "-wall_mu", p.pw.mu);
     num("dem_pseudo2d", "-dem_pseudo2d", p.pseudo2d ? 1 : 0);
   }
+  // The inflow is not part of it: a bed packed or settled at one flow is continued at another (the boundary
+  // conditions of the next stage of a study, as tests/coupling/test_small_bed.py does).
   if (sim->fluid) {
-    PetscReal rho, mu, u_in, q_in;
+    PetscReal rho, mu;
     FluidGetGasProperties(sim->fluid, &rho, &mu);
-    FluidGetInflow(sim->fluid, &u_in, &q_in);
     num("fluid_rho", "-fluid_rho", rho);
     num("fluid_mu", "-fluid_mu", mu);
     num("fluid_model_b", "-fluid_model", FluidIsModelB(sim->fluid) ? 1 : 0);
-    num("inlet_velocity", "-inlet_velocity", u_in);
-    num("inlet_flow", "-inlet_velocity / -inlet_jets", q_in);
   }
   if (sim->coupling) {
     num("couple_grid_two", "-couple_grid", CouplingOnParticleGrid(sim->coupling) ? 1 : 0);

@@ -4,6 +4,8 @@
 #include "fluidbed/kernels/verlet.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -86,6 +88,7 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
   if (set) m->track_ids.assign(ids, ids + nids);
+  m->dir = dir;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank) {
     const std::string path  = std::string(dir) + "/monitor.csv";
@@ -118,6 +121,7 @@ PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
 {
   PetscFunctionBeginUser;
   (void)comm;
+  m->last_row_step = step;
   if (m->csv) {
     fprintf(m->csv, "%lld,%.10e", (long long)step, (double)time);
     if (m->particles)
@@ -168,6 +172,49 @@ PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
               (double)time, (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12]);
     }
   }
+  PetscFunctionReturn(0);
+}
+
+namespace {
+// Keeps the header and the rows whose first field (the step) is at most `step`; returns the file reopened for appending.
+FILE *KeepRowsUpTo(FILE *fp, const std::string &path, PetscInt64 step)
+{
+  if (!fp) return fp;
+  fclose(fp);
+  FILE *in = fopen(path.c_str(), "r");
+  if (!in) return fopen(path.c_str(), "a");
+  std::string kept, line;
+  char        buf[8192];
+  bool        header = true;
+  while (fgets(buf, sizeof(buf), in)) {
+    line += buf;
+    if (line.back() != '\n' && !feof(in)) continue; // a long row: read on
+    if (header || std::strtoll(line.c_str(), nullptr, 10) <= step) kept += line;
+    header = false;
+    line.clear();
+  }
+  fclose(in);
+  FILE *out = fopen(path.c_str(), "w");
+  if (out) {
+    fputs(kept.c_str(), out);
+    fclose(out);
+  }
+  return fopen(path.c_str(), "a");
+}
+} // namespace
+
+PetscErrorCode MonitorTruncate(MPI_Comm comm, Monitor *m, PetscInt64 step)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) {
+    m->csv = KeepRowsUpTo(m->csv, m->dir + "/monitor.csv", step);
+    PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/monitor.csv", m->dir.c_str());
+    if (m->track) m->track = KeepRowsUpTo(m->track, m->dir + "/track.csv", step);
+  }
+  m->last_row_step = step;
   PetscFunctionReturn(0);
 }
 
