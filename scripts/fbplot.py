@@ -55,7 +55,7 @@ def read_analysis(run):
 
 
 def box(run):
-    """(lo, hi) of the domain, 3 values each: from analysis.h5, else from fluid.xmf."""
+    """(lo, hi) of the domain, 3 values each: from analysis.h5, else from fluid.xmf (z 0..1 in 2D)."""
     if os.path.isfile(os.path.join(run, "analysis.h5")):
         with h5py.File(os.path.join(run, "analysis.h5"), "r") as f:
             lo, h, n = f["grid/origin"][()], f["grid/spacing"][()], f["grid/cells"][()]
@@ -64,12 +64,21 @@ def box(run):
     if not os.path.isfile(xmf):
         die("%s has neither analysis.h5 nor fluid.xmf to give the domain" % run)
     grid = ET.parse(xmf).getroot().find("./Domain/Grid/Grid")
-    nodes = [int(s) for s in grid.find("Topology").get("Dimensions").split()][::-1]
     items = grid.find("Geometry").findall("DataItem")
-    origin = [float(s) for s in items[0].text.split()][::-1]
-    spacing = [float(s) for s in items[1].text.split()][::-1]
     lo = np.zeros(3)
     hi = np.ones(3)
+    if grid.find("Geometry").get("GeometryType") == "XY":  # 2D: the node coordinates (in fluid_grid.h5 or inline)
+        if items[0].get("Format") == "HDF":
+            name, dataset = items[0].text.strip().split(":")
+            with h5py.File(os.path.join(run, name), "r") as f:
+                nodes = f[dataset][()]
+        else:
+            nodes = np.array(items[0].text.split(), dtype=float).reshape(-1, 2)
+        lo[:2], hi[:2] = nodes.min(axis=0), nodes.max(axis=0)
+        return lo, hi
+    nodes = [int(s) for s in grid.find("Topology").get("Dimensions").split()][::-1]  # CoRectMesh: origin and spacing
+    origin = [float(s) for s in items[0].text.split()][::-1]
+    spacing = [float(s) for s in items[1].text.split()][::-1]
     for a in range(len(nodes)):
         lo[a] = origin[a]
         hi[a] = origin[a] + spacing[a] * (nodes[a] - 1)

@@ -9,6 +9,13 @@ FLUIDBED_BUILD_DIR=${FLUIDBED_BUILD_DIR:-$FLUIDBED_ROOT/build}
 FLUIDBED_JOBS=${FLUIDBED_JOBS:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)}
 FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
                    cmake make g++ pkg-config)
+# What only the tests need: ParaView's pvbatch (python3-paraview holds its Python module, a recommendation that
+# --no-install-recommends skips) in a virtual X server, for tests/io/test_paraview.py. scripts/test.sh sets
+# FLUIDBED_WITH_TEST_PACKAGES=1 before sourcing this file.
+FLUIDBED_TEST_PACKAGES=(paraview python3-paraview xvfb xauth)
+if [[ ${FLUIDBED_WITH_TEST_PACKAGES:-0} == 1 ]]; then
+  FLUIDBED_PACKAGES+=("${FLUIDBED_TEST_PACKAGES[@]}")
+fi
 
 fluidbed_install_packages() {
   local missing=()

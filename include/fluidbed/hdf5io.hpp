@@ -2,8 +2,8 @@
 //
 // Particle fields are viewed as Vecs wrapped around the DMSwarm field arrays (one dataset per field, rows in rank
 // order, shape (N, components)); DMDA fields are written in natural ordering, shape (Nz, Ny, Nx[, dof]). The
-// XDMF files are written by hand: a temporal collection of Polyvertex grids for particles and of CoRectMesh
-// grids for the gas, each pointing at datasets in the per-snapshot HDF5 files.
+// XDMF files are written by hand: a temporal collection of Polyvertex grids for particles and of structured
+// grids for the gas (XdmfCellGrid), each pointing at datasets in the per-snapshot HDF5 files.
 #pragma once
 
 #include <petscviewerhdf5.h>
@@ -40,22 +40,33 @@ std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::v
 // Rewrites <dir>/particles.xmf for the whole series (rank 0).
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series);
 
-// Rewrites <dir>/fluid.xmf: CoRectMesh grids with the cell-centred velocity, pressure and void fraction (rank 0).
+// Rewrites <dir>/fluid.xmf: XdmfCellGrid grids with the cell-centred velocity, pressure and void fraction (rank 0).
+// In 2D their geometry is read from XdmfWriteFluidNodes' file.
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series);
 
-// XDMF building blocks for cell fields on a uniform grid (ParaView's 2DCoRectMesh / 3DCoRectMesh).
+// The file of XdmfWriteFluidNodes, in the output directory.
+inline constexpr const char *kFluidNodesFile = "fluid_grid.h5";
+
+// Writes <dir>/fluid_grid.h5 for a 2D gas grid: /nodes, the (Nx + 1)(Ny + 1) x 2 coordinates x, y of its nodes, x
+// fastest, shared by every grid of fluid.xmf (nothing in 3D). Collective; once per run, before the first fluid.xmf.
+PetscErrorCode XdmfWriteFluidNodes(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid);
+
+// XDMF building blocks for cell fields on a uniform grid, as ParaView 5.11 (XDMF and Xdmf3 readers) reads them
+// with the particles: a 3DCoRectMesh in 3D; in 2D a 2DSMesh in the x-y plane at z = 0, its node coordinates from
+// `nodes` (an HDF5 item "file:/dataset" as XdmfWriteFluidNodes writes) or, when `nodes` is empty, inline.
 struct XdmfCellField {
   std::string name;       // attribute name in ParaView
   std::string dataset;    // absolute HDF5 path, e.g. "/fluid/pressure", shape (Nz,) Ny, Nx[, components]
-  int         components; // 1 (scalar), 3 (vector) or 2 (2D vector: given as the scalars name_x, name_y)
+  int         components; // 1 (scalar), 2 or 3 (vector of the grid's dimension)
 };
 // The gas fields of a snapshot (FluidWriteHDF5): pressure, void fraction, velocity.
 std::vector<XdmfCellField> XdmfFluidFields(PetscInt dim);
 // One <Grid> element of n[0] x n[1] (x n[2]) cells of size h from lo, its attributes read from `file`; with a time
 // when `time` is given (an entry of a temporal collection).
 std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], const PetscReal lo[3], const PetscReal h[3],
-                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time);
+                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time,
+                         const std::string &nodes = "");
 // The XDMF document around grid elements: inside a temporal collection of that name, or bare when collection is NULL.
 std::string XdmfDocument(const std::string &grids, const char *collection);
 // Writes text to path on rank 0 (to path.tmp, then renamed).

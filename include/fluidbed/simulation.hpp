@@ -36,6 +36,7 @@ struct OutputSchedule {
   char                        checkpoint_file[PETSC_MAX_PATH_LEN] = "";
   char                        restart[PETSC_MAX_PATH_LEN]         = "";
   std::vector<SnapshotRecord> series;
+  bool                        fluid_nodes_written = false; // fluid_grid.h5 of this run (2D gas), before its first fluid.xmf
 };
 
 struct Simulation {

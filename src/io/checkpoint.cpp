@@ -189,6 +189,10 @@ PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
   PetscCall(PetscViewerDestroy(&viewer));
   o.series.push_back({sim->time, name, n});
   if (sim->swarm) PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, o.series));
+  if (sim->fluid && !o.fluid_nodes_written) {
+    PetscCall(XdmfWriteFluidNodes(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid));
+    o.fluid_nodes_written = true;
+  }
   if (sim->fluid) PetscCall(XdmfWriteFluid(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid, o.series));
   PetscFunctionReturn(0);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace fluidbed {
@@ -233,15 +234,13 @@ PetscErrorCode XdmfWriteFile(MPI_Comm comm, const std::string &path, const std::
 }
 
 std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], const PetscReal lo[3], const PetscReal h[3],
-                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time)
+                         const std::string &file, const std::vector<XdmfCellField> &fields, const PetscReal *time, const std::string &nodes)
 {
-  std::ostringstream cells, nodes, origin, spacing;
+  std::ostringstream cells, points;
   // XDMF orders axes slowest first: (z,) y, x
   for (int a = (int)dim - 1; a >= 0; --a) {
     cells << n[a] << (a ? " " : "");
-    nodes << n[a] + 1 << (a ? " " : "");
-    origin << lo[a] << (a ? " " : "");
-    spacing << h[a] << (a ? " " : "");
+    points << n[a] + 1 << (a ? " " : "");
   }
   auto heavy = [&](const std::string &dataset, int comps) {
     std::ostringstream d;
@@ -250,25 +249,34 @@ std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], co
     return d.str();
   };
   std::ostringstream x;
+  x << std::setprecision(15); // times and coordinates to double precision (the default 6 digits lose both)
   x << "   <Grid Name=\"" << name << "\" GridType=\"Uniform\">\n";
   if (time) x << "    <Time Value=\"" << *time << "\"/>\n";
-  x << "    <Topology TopologyType=\"" << dim << "DCoRectMesh\" Dimensions=\"" << nodes.str() << "\"/>\n";
-  x << "    <Geometry GeometryType=\"" << (dim == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") << "\">\n";
-  x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << origin.str() << "</DataItem>\n";
-  x << "     <DataItem Dimensions=\"" << dim << "\" Format=\"XML\">" << spacing.str() << "</DataItem>\n    </Geometry>\n";
-  for (const XdmfCellField &f : fields) {
-    if (f.components == 1)
-      x << "    <Attribute Name=\"" << f.name << "\" AttributeType=\"Scalar\" Center=\"Cell\">" << heavy(f.dataset, 1) << "</Attribute>\n";
-    else if (f.components == 3)
-      x << "    <Attribute Name=\"" << f.name << "\" AttributeType=\"Vector\" Center=\"Cell\">" << heavy(f.dataset, 3) << "</Attribute>\n";
-    else
-      for (int c = 0; c < f.components; ++c) // XDMF vectors have three components: give the 2D components as scalars
-        x << "    <Attribute Name=\"" << f.name << "_"
-          << "xyz"[c] << "\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" Dimensions=\"" << cells.str()
-          << " 1\"><DataItem Dimensions=\"3 " << dim + 1 << "\" Format=\"XML\">" << (dim == 3 ? "0 0 0 " : "0 0 ") << c
-          << (dim == 3 ? " 1 1 1 1 " : " 1 1 1 ") << cells.str() << " 1</DataItem>" << heavy(f.dataset, f.components)
-          << "</DataItem></Attribute>\n";
+  if (dim == 3) {
+    x << "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << points.str() << "\"/>\n";
+    x << "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+    x << "     <DataItem Dimensions=\"3\" Format=\"XML\">" << lo[2] << " " << lo[1] << " " << lo[0] << "</DataItem>\n";
+    x << "     <DataItem Dimensions=\"3\" Format=\"XML\">" << h[2] << " " << h[1] << " " << h[0] << "</DataItem>\n    </Geometry>\n";
+  } else {
+    // A 2D grid with the coordinates of its nodes. ParaView 5.11 lays a 2DCoRectMesh in the y-z plane (it reads
+    // the two axes as z, y), away from the particles in x-y. Each uniform alternative fails in one of its readers:
+    // a 3DCoRectMesh one node thick loads no cell field in the XDMF reader (it selects nodes - 1 = 0 cells across),
+    // and a 2DRectMesh (VXVY) is read by it in x-y but handed down the pipeline with the y-z extent. A 2DSMesh puts
+    // the nodes where their x, y say, at z = 0, in the XDMF and Xdmf3 readers alike.
+    x << "    <Topology TopologyType=\"2DSMesh\" Dimensions=\"" << points.str() << "\"/>\n";
+    x << "    <Geometry GeometryType=\"XY\">\n     <DataItem Dimensions=\"" << (n[0] + 1) * (n[1] + 1)
+      << " 2\" NumberType=\"Float\" Precision=\"8\" Format=\"" << (nodes.empty() ? "XML" : "HDF") << "\">";
+    if (nodes.empty())
+      for (PetscInt j = 0; j <= n[1]; ++j)
+        for (PetscInt i = 0; i <= n[0]; ++i) x << (i || j ? " " : "") << lo[0] + i * h[0] << " " << lo[1] + j * h[1];
+    else x << nodes;
+    x << "</DataItem>\n    </Geometry>\n";
   }
+  // 2D vectors as vectors of two components: both readers load them (the XDMF reader adds z = 0), whereas the Xdmf3
+  // reader skips a HyperSlab that picks one component.
+  for (const XdmfCellField &f : fields)
+    x << "    <Attribute Name=\"" << f.name << "\" AttributeType=\"" << (f.components == 1 ? "Scalar" : "Vector") << "\" Center=\"Cell\">"
+      << heavy(f.dataset, f.components) << "</Attribute>\n";
   x << "   </Grid>\n";
   return x.str();
 }
@@ -276,6 +284,7 @@ std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], co
 std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::vector<std::string> &extra_scalars)
 {
   std::ostringstream x;
+  x << std::setprecision(15); // the times as fluid.xmf gives them, so that ParaView pairs the two series' steps
   auto               item = [&](const char *name, int comps) {
     std::ostringstream d;
     d << "<DataItem Dimensions=\"" << s.particles;
@@ -315,6 +324,33 @@ std::vector<XdmfCellField> XdmfFluidFields(PetscInt dim)
   return {{"pressure", "/fluid/pressure", 1}, {"void_fraction", "/fluid/void_fraction", 1}, {"velocity", "/fluid/velocity", (int)dim}};
 }
 
+PetscErrorCode XdmfWriteFluidNodes(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid)
+{
+  PetscMPIInt rank;
+  Vec         v;
+  PetscViewer viewer;
+
+  PetscFunctionBeginUser;
+  if (dom.dim != 2) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  std::vector<PetscScalar> xy;
+  if (!rank)
+    for (PetscInt j = 0; j <= grid.n[1]; ++j)
+      for (PetscInt i = 0; i <= grid.n[0]; ++i) xy.insert(xy.end(), {dom.lo[0] + i * grid.h[0], dom.lo[1] + j * grid.h[1]});
+  const std::string path = dir + "/" + kFluidNodesFile;
+  PetscCall(VecCreateMPIWithArray(comm, 2, (PetscInt)xy.size(), PETSC_DECIDE, xy.data(), &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "nodes"));
+  PetscCall(PetscViewerHDF5Open(comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
+  PetscCall(VecView(v, viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "units", PETSC_STRING, "m"));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "description", PETSC_STRING,
+                                          "x, y of the gas grid's nodes, x fastest (the geometry of fluid.xmf)"));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCall(VecDestroy(&v));
+  PetscCall(CommitFile(comm, path));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series)
 {
@@ -324,8 +360,9 @@ PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domai
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
   const std::vector<XdmfCellField> fields = XdmfFluidFields(dom.dim);
+  const std::string                nodes  = std::string(kFluidNodesFile) + ":/nodes";
   std::string                      grids;
-  for (const SnapshotRecord &s : series) grids += XdmfCellGrid("gas", dom.dim, grid.n, dom.lo, grid.h, s.file, fields, &s.time);
+  for (const SnapshotRecord &s : series) grids += XdmfCellGrid("gas", dom.dim, grid.n, dom.lo, grid.h, s.file, fields, &s.time, nodes);
   PetscCall(XdmfWriteFile(comm, dir + "/fluid.xmf", XdmfDocument(grids, "gas")));
   PetscFunctionReturn(0);
 }

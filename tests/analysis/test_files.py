@@ -33,7 +33,9 @@ for label, opts, args, ranks, dim, jets, gas in cases:
     grid = root.find("./Domain/Grid")
     topo = grid.find("Topology")
     nodes = [int(s) for s in topo.get("Dimensions").split()]
-    t.check(topo.get("TopologyType") == "%dDCoRectMesh" % dim and len(nodes) == dim, "%s: %s of %s nodes" % (label, topo.get("TopologyType"), nodes))
+    # 2D: a 2DSMesh with its node coordinates, which ParaView lays in the x-y plane with the particles
+    t.check(topo.get("TopologyType") == ("3DCoRectMesh" if dim == 3 else "2DSMesh") and len(nodes) == dim,
+            "%s: %s of %s nodes" % (label, topo.get("TopologyType"), nodes))
     a = af.read(out)
     nc = a["grid/cells"].astype(int)
     cells = tuple(int(c) for c in nc[:dim][::-1])  # XDMF and HDF5 order: (z,) y, x
@@ -58,8 +60,9 @@ for label, opts, args, ranks, dim, jets, gas in cases:
         t.check(not missing, "%s: all %d datasets carry units and description%s" % (label, len(a), " (missing: %s)" % missing if missing else ""))
         t.check(f["fields/velocity"].shape == cells + (dim,) and f["fields/solid_fraction"].shape == cells,
                 "%s: velocity %s, solid fraction %s" % (label, f["fields/velocity"].shape, f["fields/solid_fraction"].shape))
-    if dim == 2:
-        t.check("velocity_x" in names and "velocity_y" in names, "%s: the 2D velocity appears as velocity_x, velocity_y" % label)
+    vectors = {att.get("Name"): att.find("DataItem").get("Dimensions") for att in grid.findall("Attribute") if att.get("AttributeType") == "Vector"}
+    t.check(set(vectors) == {"velocity", "solid_flux"} and all(d.split()[-1] == str(dim) for d in vectors.values()),
+            "%s: velocity and solid flux are vectors of %d components: %s" % (label, dim, vectors))
     ns, nx, ny = len(a["series/time"]), nc[0], nc[1]
     nh = len(a.get("profiles/heights", []))
     t.check(ns == int(af.measure(a, "samples")) and a["cross_section/solid_fraction"].shape == (ny,),
