@@ -2,8 +2,11 @@
 and message, summary.json says "stopped" with the guard's name, and guard_failure.h5/.xmf marks the particles or cells
 it names. The same scene just inside the limit runs to its end with status "ok"; where the figure has an analytic
 value (the head-on overlap, a free particle's step) the guard's measured figure is checked against it."""
+import json
 import math
 import os
+import shutil
+import subprocess
 import sys
 
 import h5py
@@ -53,6 +56,19 @@ def flagged_cells(out):
         return int(np.asarray(f["fluid/flagged"]).sum())
 
 
+def paraview(out):
+    """The diagnostic snapshot as ParaView's XDMF reader loads it (pvbatch in a virtual X server): a list of blocks."""
+    pvbatch, xvfb = shutil.which("pvbatch"), shutil.which("xvfb-run")
+    if not (pvbatch and xvfb):
+        t.fail("pvbatch and xvfb-run are needed (scripts/test.sh installs paraview, python3-paraview, xvfb and xauth)")
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_diagnostic.py")
+    result = os.path.join(out, "paraview.json")
+    subprocess.run([xvfb, "-a", pvbatch, script, os.path.join(out, "guard_failure.xmf"), result], capture_output=True, timeout=300)
+    if not os.path.isfile(result):
+        t.fail("pvbatch could not open %s/guard_failure.xmf" % out)
+    return json.load(open(result))
+
+
 settle = t.example("dem/settle_box.opts")
 head_on = t.example("dem/head_on.opts")
 jetted = t.example("jetted_bed_2d.opts")
@@ -64,6 +80,9 @@ for n in (1, 2):
                      "nan", ["same point", "-insert_positions"], nprocs=n)
     ids = flagged_particles(out)
     t.check(ids == [0, 1], "nan_%d: the snapshot flags particles %s (expected [0, 1])" % (n, ids))
+pv = paraview("nan_1")
+t.check(len(pv) == 1 and pv[0]["points"] == 2 and pv[0]["flagged"] == 2,
+        "ParaView opens nan_1/guard_failure.xmf: %d block(s), %d particles, %s flagged" % (len(pv), pv[0]["points"], pv[0]["flagged"]))
 ok("nan_inside", settle, ["-max_steps", "50", "-insert_type", "list", "-insert_positions", "0.01,0.01,0.01,0.01,0.0109,0.01"])
 
 # Overlap: a head-on collision at 1 m/s closing speed, e = 1: the largest overlap is v sqrt(m_eff / k_n)
@@ -108,6 +127,12 @@ for n in (1, 2):
     out, s = stopped("void_fraction_%d" % n, jetted, fine_grid + ["-pgrid_ratio", "2,2", "-couple_grid", "single"], "void_fraction",
                      ["held at the floor", "-pgrid_ratio"], nprocs=n)
     t.check(flagged_cells(out) > 0, "void_fraction_%d: the snapshot flags %d gas cells" % (n, flagged_cells(out)))
+pv = paraview("void_fraction_1")
+particles, cells = pv
+inside = all(cells["bounds"][2 * a] <= particles["bounds"][2 * a] and particles["bounds"][2 * a + 1] <= cells["bounds"][2 * a + 1] for a in range(3))
+t.check(particles["points"] == 900 and cells["cells"] == 66 * 180 and cells["flagged"] == flagged_cells("void_fraction_1") and inside,
+        "ParaView opens void_fraction_1/guard_failure.xmf: %d particles inside the gas grid (x-y plane, bounds %s), %d cells, %d flagged"
+        % (particles["points"], ["%.4g" % b for b in cells["bounds"]], cells["cells"], cells["flagged"]))
 # the same gas grid on two grids with particle cells of 3 d: the seed's method holds
 out, s = ok("void_fraction_inside", jetted, fine_grid + ["-pgrid_ratio", "6,6"])
 t.check(s["guard_figures"]["floor_share_max"] == 0, "two grids: no cell at the floor (share %g)" % s["guard_figures"]["floor_share_max"])
