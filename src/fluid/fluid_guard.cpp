@@ -49,6 +49,22 @@ PetscErrorCode FluidCheckFinite(Fluid *f, PetscBool *finite, PetscInt64 *cell, c
   *finite = PETSC_TRUE;
   *cell   = -1;
   *field  = "";
+  {
+    // the common case in one pass over the owned arrays and one reduction; the cells are searched only on a fault
+    PetscBool ok = PETSC_TRUE, all;
+    for (auto &x : fields) {
+      const PetscScalar *a;
+      PetscInt           n;
+      PetscCall(VecGetLocalSize(x.v, &n));
+      PetscCall(VecGetArrayRead(x.v, &a));
+      PetscReal sum = 0;
+      for (PetscInt i = 0; i < n; ++i) sum += a[i] - a[i]; // 0 for a number, NaN for NaN or inf
+      PetscCall(VecRestoreArrayRead(x.v, &a));
+      if (sum != 0) ok = PETSC_FALSE;
+    }
+    PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPIU_BOOL, MPI_LAND, f->comm));
+    if (all) PetscFunctionReturn(0);
+  }
   for (auto &x : fields) {
     PetscInt64 first;
     PetscCall(FirstNonFinite(f, x.dm, x.v, &first));
