@@ -16,8 +16,9 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
     OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(),
                         &r->progress_interval, NULL));
-  PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir,
-                               r->output_dir, sizeof(r->output_dir), NULL));
+  PetscCall(PetscOptionsString(
+    "-output_dir", "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)", "",
+    r->output_dir, r->output_dir, sizeof(r->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles,
                              &r->write_particles, NULL));
   PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid,

@@ -38,8 +38,9 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   PetscCall(OptionsReal(PetscOptionsObject, "-checkpoint_interval",
                         "Simulated time between checkpoints (0: none); the last step is always checkpointed when set", "s", NonNegative(),
                         &o.checkpoint_interval, NULL));
-  PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5); written to .tmp, then renamed",
-                               "", o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
+  PetscCall(PetscOptionsString(
+    "-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5; its directory must exist); written to .tmp, then renamed", "",
+    o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks); the scene's options must match it", "",
                                o.restart, o.restart, sizeof(o.restart), NULL));
   PetscBool reserve = PETSC_TRUE;
