@@ -26,10 +26,11 @@ namespace run_files {
 inline constexpr const char *monitor = "monitor.csv", *track = "track.csv", *particles = "particles.csv", *fluid_cells = "fluid_cells.csv",
                             *summary = "summary.json", *particles_xdmf = "particles.xmf", *fluid_xdmf = "fluid.xmf",
                             *averages = "analysis.h5", *averages_xdmf = "analysis.xmf", *checkpoint = "checkpoint.h5";
-inline constexpr const char *guard_prefix = "guard_failure.";        // the diagnostic snapshot of a run stopped by a guard
-std::string                  Snapshot(PetscInt index);               // snapshot_NNNNN.h5
-PetscInt                     SnapshotIndex(const std::string &name); // the index of a snapshot file name, -1 for any other
-bool                         IsRunFile(const std::string &name);     // one of the names above, or a temporary (.tmp) of one
+inline constexpr const char *guard_prefix = "guard_failure.";                      // the diagnostic snapshot of a run stopped by a guard
+std::string                  Snapshot(PetscInt index);                             // snapshot_NNNNN.h5
+PetscInt                     SnapshotIndex(const std::string &name);               // the index of a snapshot file name, -1 for any other
+bool                         IsRunFile(const std::string &name);                   // one of the names above, or a temporary (.tmp) of one
+std::string                  WithoutTmp(const std::string &name, bool *temporary); // name without a trailing .tmp (*temporary: it had one)
 } // namespace run_files
 
 // Agrees on the outcome of a write: err is an errno value on a rank that failed and 0 on the others. When any rank

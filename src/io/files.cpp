@@ -40,11 +40,17 @@ PetscInt SnapshotIndex(const std::string &name)
   return (PetscInt)std::stoll(digits);
 }
 
+std::string WithoutTmp(const std::string &file, bool *temporary)
+{
+  const std::string tmp = ".tmp";
+  *temporary            = file.size() > tmp.size() && !file.compare(file.size() - tmp.size(), tmp.size(), tmp);
+  return *temporary ? file.substr(0, file.size() - tmp.size()) : file;
+}
+
 bool IsRunFile(const std::string &file)
 {
-  const std::string tmp  = ".tmp";
-  const bool        temp = file.size() > tmp.size() && !file.compare(file.size() - tmp.size(), tmp.size(), tmp);
-  const std::string name = temp ? file.substr(0, file.size() - tmp.size()) : file;
+  bool              temporary;
+  const std::string name = WithoutTmp(file, &temporary);
   for (const char *fixed :
        {monitor, track, particles, fluid_cells, summary, particles_xdmf, fluid_xdmf, averages, averages_xdmf, checkpoint})
     if (name == fixed) return true;
@@ -59,12 +65,10 @@ namespace {
 // same error.
 PetscErrorCode RootVerdict(MPI_Comm comm, int err, const std::string &path, const char *verb)
 {
-  PetscMPIInt rank;
   std::string what = path;
   int         len  = (int)path.size();
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   if (err) {
     PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
@@ -178,12 +182,11 @@ bool IsRunFileName(const std::string &name, PetscInt)
 }
 
 // A snapshot numbered `first` or later, or the temporary of any snapshot.
-bool IsSnapshotFrom(const std::string &name, PetscInt first)
+bool IsSnapshotFrom(const std::string &file, PetscInt first)
 {
-  const std::string tmp = ".tmp";
-  if (name.size() > tmp.size() && !name.compare(name.size() - tmp.size(), tmp.size(), tmp))
-    return run_files::SnapshotIndex(name.substr(0, name.size() - tmp.size())) >= 0;
-  return run_files::SnapshotIndex(name) >= first;
+  bool           temporary;
+  const PetscInt index = run_files::SnapshotIndex(run_files::WithoutTmp(file, &temporary));
+  return index >= 0 && (temporary || index >= first);
 }
 
 // The first error a write raised, caught instead of printed.
@@ -391,7 +394,6 @@ PetscErrorCode WriteHDF5File(MPI_Comm comm, const std::string &path, PetscInt64 
   PetscCheck(H5Eget_auto2(H5E_DEFAULT, &h5_report, &h5_data) >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "H5Eget_auto2 failed");
   PetscCheck(H5Eset_auto2(H5E_DEFAULT, NULL, NULL) >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "H5Eset_auto2 failed");
   PetscCall(PetscPushErrorHandler(CatchError, &caught));
-  errno               = 0;
   PetscErrorCode ierr = PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, &viewer);
   if (!ierr) ierr = write(viewer);
   if (!ierr) ierr = PetscViewerDestroy(&viewer);
@@ -407,7 +409,7 @@ PetscErrorCode WriteHDF5File(MPI_Comm comm, const std::string &path, PetscInt64 
       // release them. The previous file of this name is untouched.
       fprintf(stderr, "fluidbed: error: cannot write %s (%s)\n", path.c_str(), why.c_str());
       fflush(stderr);
-      MPI_Abort(PETSC_COMM_WORLD, EXIT_OUTPUT);
+      MPI_Abort(comm, EXIT_OUTPUT);
     }
     SETERRQ(comm, PETSC_ERR_FILE_WRITE, "cannot write %s (%s)", path.c_str(), why.c_str());
   }
