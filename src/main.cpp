@@ -2,6 +2,7 @@
 #include "fluidbed/simulation.hpp"
 #include "fluidbed/status.hpp"
 
+#include <csignal>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -86,6 +87,8 @@ int main(int argc, char **argv)
     argc = (int)args.size() - 1;
     argv = args.data();
   }
+  // A file-size limit (ulimit -f) then makes a write fail with EFBIG, reported like a full disk, instead of killing the run.
+  signal(SIGXFSZ, SIG_IGN);
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   if (default_scene)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "No arguments: running the default scene, examples/jetted_bed_2d.opts (built in)\n"));

@@ -19,9 +19,10 @@ def example(path):
     return os.path.join(SRC, "examples", path)
 
 
-def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, timeout=1200, clean=True):
+def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, timeout=1200, clean=True, env=None, preexec_fn=None):
     """Runs fluidbed, returns (output directory, completed process). Fails the test on an unexpected status.
-    The output directory is emptied first unless clean is False (a restart continuing in place)."""
+    The output directory is emptied first unless clean is False (a restart continuing in place). env and preexec_fn
+    go to subprocess.run (e.g. a resource limit for the run)."""
     if clean and os.path.isdir(outdir):
         shutil.rmtree(outdir)
     cmd = [EXE]
@@ -30,7 +31,7 @@ def run(options_file=None, args=(), nprocs=1, outdir="out", expect_fail=False, t
     cmd += ["-output_dir", outdir] + ([] if "-progress_interval" in [str(a) for a in args] else ["-progress_interval", "0"]) + [str(a) for a in args]
     if nprocs > 1:
         cmd = [MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", str(nprocs)] + cmd
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, preexec_fn=preexec_fn)
     if not expect_fail and p.returncode != 0:
         print(p.stdout[-4000:], p.stderr[-4000:])
         fail("fluidbed exited with status %d: %s" % (p.returncode, " ".join(cmd)))

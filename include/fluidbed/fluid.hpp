@@ -74,6 +74,8 @@ const FluidStats &FluidGetStats(const Fluid *fluid);
 // velocities, the previous void fraction, the momentum source, the outlet faces and the gas clock. Natural
 // ordering, so a checkpoint loads on any number of ranks.
 PetscErrorCode FluidWriteHDF5(Fluid *fluid, PetscViewer viewer, PetscBool full);
+// The bytes of data FluidWriteHDF5 writes: the size of a file to make room for.
+PetscErrorCode FluidHDF5Bytes(Fluid *fluid, PetscBool full, PetscInt64 *bytes);
 PetscErrorCode FluidReadHDF5(Fluid *fluid, PetscViewer viewer);
 // Gas density (kg/m^3) and viscosity (Pa s), for the drag; whether the momentum equation is the seed's Model B.
 PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscReal *mu);

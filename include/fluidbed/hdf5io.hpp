@@ -8,17 +8,21 @@
 
 #include <petscviewerhdf5.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "fluidbed/dem.hpp"
 #include "fluidbed/grids.hpp"
+#include "fluidbed/io.hpp"
 
 namespace fluidbed {
 
 // Particle datasets under /particles: position, velocity, omega, diameter and id; with `full` (checkpoints) also
 // force, torque and the contact history, everything needed to continue bit for bit.
 PetscErrorCode ParticlesWriteHDF5(DM swarm, PetscViewer viewer, PetscBool full);
+// The bytes of data ParticlesWriteHDF5 writes (collective): the size of a file to make room for.
+PetscErrorCode ParticlesHDF5Bytes(DM swarm, PetscBool full, PetscInt64 *bytes);
 
 // A per-particle dataset /particles/<name>: 1 for the particles whose id is in ids, 0 for the others (the
 // diagnostic snapshot's marks), in the rows ParticlesWriteHDF5 writes.
@@ -37,16 +41,16 @@ struct SnapshotRecord {
 
 // One Polyvertex <Grid> of a snapshot's particles: position, velocity, omega, diameter, id and the extra scalars.
 std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::vector<std::string> &extra_scalars);
-// Rewrites <dir>/particles.xmf for the whole series (rank 0).
+// Rewrites <dir>/particles.xmf for the whole series (collective; rank 0 writes).
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series);
 
-// Rewrites <dir>/fluid.xmf: XdmfCellGrid grids with the cell-centred velocity, pressure and void fraction (rank 0).
-// In 2D their geometry is read from XdmfWriteFluidNodes' file.
+// Rewrites <dir>/fluid.xmf: XdmfCellGrid grids with the cell-centred velocity, pressure and void fraction
+// (collective; rank 0 writes). In 2D their geometry is read from XdmfWriteFluidNodes' file.
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series);
 
 // The file of XdmfWriteFluidNodes, in the output directory.
-inline constexpr const char *kFluidNodesFile = "fluid_grid.h5";
+inline constexpr const char *kFluidNodesFile = run_files::fluid_nodes;
 
 // Writes <dir>/fluid_grid.h5 for a 2D gas grid: /nodes, the (Nx + 1)(Ny + 1) x 2 coordinates x, y of its nodes, x
 // fastest, shared by every grid of fluid.xmf (nothing in 3D). Collective; once per run, before the first fluid.xmf.
@@ -69,11 +73,17 @@ std::string XdmfCellGrid(const char *name, PetscInt dim, const PetscInt n[3], co
                          const std::string &nodes = "");
 // The XDMF document around grid elements: inside a temporal collection of that name, or bare when collection is NULL.
 std::string XdmfDocument(const std::string &grids, const char *collection);
-// Writes text to path on rank 0 (to path.tmp, then renamed).
+// Writes text to path (collective; rank 0 writes path.tmp and renames it: OutputWriteText).
 PetscErrorCode XdmfWriteFile(MPI_Comm comm, const std::string &path, const std::string &text);
 
-// Atomic file replacement: the caller writes `path + ".tmp"`, then this renames it onto `path` (rank 0, after
-// every rank has closed the file), so an interrupted write never destroys the previous file.
-PetscErrorCode CommitFile(MPI_Comm comm, const std::string &path);
+// Writes an HDF5 file through PETSc's viewer (collective): write() fills it. The file is written to path.tmp and
+// renamed when complete. Any failure on any rank (full disk, file-size limit, unwritable path: PETSc raises
+// PETSC_ERR_LIB from the failed HDF5 call) is caught instead of printed, the file is closed on every rank, and every
+// rank raises PETSC_ERR_FILE_WRITE naming path and the reason; the previous file of that name stays intact.
+// bytes: the data it will hold, as far as known (0: unknown); the space for it is made sure of first (-output_reserve).
+PetscErrorCode WriteHDF5File(MPI_Comm comm, const std::string &path, PetscInt64 bytes,
+                             const std::function<PetscErrorCode(PetscViewer)> &write);
+// -output_reserve: whether WriteHDF5File reserves a file's space before HDF5 writes it (on by default).
+void OutputSetReserve(PetscBool reserve);
 
 } // namespace fluidbed

@@ -9,6 +9,8 @@
 
 #include <petscdmswarm.h>
 
+#include <string>
+
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 
@@ -71,8 +73,9 @@ PetscErrorCode ParticlesGlobalCount(DM swarm, PetscInt64 *n);
 
 // Options -insert_*: lattice, random, list or file; by count or settled bed height; seeded.
 struct InsertionReport {
-  PetscInt64 count                 = 0;
-  PetscReal  solid_fraction_region = 0.0; // solid volume / region volume at insertion
+  PetscInt64  count                 = 0;
+  PetscReal   solid_fraction_region = 0.0; // solid volume / region volume at insertion
+  std::string file;                        // the CSV the particles were read from (-insert_type file), else empty
 };
 PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, DM swarm,
                                InsertionReport *report);

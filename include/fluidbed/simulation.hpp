@@ -88,6 +88,12 @@ PetscErrorCode SimulationDestroy(Simulation **sim);
 // Snapshots, checkpoints and restart (src/io/checkpoint.cpp).
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
 PetscErrorCode SimulationWriteSnapshot(Simulation *sim);
+// Rewrites particles.xmf and fluid.xmf for the snapshot series.
+PetscErrorCode SimulationWriteSeriesXdmf(Simulation *sim);
+// Clears the output directory before the run writes (after the inputs are read): a fresh run removes the files of a
+// previous run; a restart removes the snapshots written after its checkpoint (RemovePreviousRun,
+// RemoveSnapshotsAfter).
+PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim);
 PetscErrorCode SimulationWriteCheckpoint(Simulation *sim);
 PetscErrorCode SimulationReadCheckpoint(Simulation *sim);
 // Writes what is due at the current time (snapshot, checkpoint); `last` forces a final checkpoint. The guards are

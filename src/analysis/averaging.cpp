@@ -544,29 +544,20 @@ PetscErrorCode FillField(BedAverages *a, const FieldSpec &f, Vec v)
   PetscFunctionReturn(0);
 }
 
-} // namespace
-
-PetscErrorCode BedAveragesWrite(BedAverages *a)
+// The contents of analysis.h5; out: the fields for analysis.xmf.
+PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer viewer, std::vector<XdmfCellField> *out)
 {
-  PetscViewer  viewer;
-  Vec          scalar, vector;
-  Gathered     g;
-  PetscMPIInt  rank;
-  const double t0 = MPI_Wtime();
+  Vec         scalar, vector;
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
   Simulation *sim = a->sim;
-  PetscCall(PetscLogEventBegin(ev_write, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(a->comm, &rank));
-  PetscCall(Measure(a, &g));
-  const std::string dir = sim->run.output_dir, path = dir + "/analysis.h5";
-  PetscCall(PetscViewerHDF5Open(a->comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
+  std::vector<XdmfCellField> &xdmf = *out;
 
   // time-averaged fields on the particle grid
   PetscCall(DMGetGlobalVector(a->da_scalar, &scalar));
   PetscCall(DMGetGlobalVector(a->da_vector, &vector));
-  std::vector<XdmfCellField> xdmf;
   for (const FieldSpec &f : kFields) {
     Vec v = f.components == 1 ? scalar : vector;
     PetscCall(FillField(a, f, v));
@@ -684,11 +675,30 @@ PetscErrorCode BedAveragesWrite(BedAverages *a)
       if (s.write) PetscCall(WriteArray(viewer, a->comm, "/measures", s.name, 1, n0, &s.value, s.units, s.description));
   }
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCall(CommitFile(a->comm, path));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode BedAveragesWrite(BedAverages *a)
+{
+  Gathered                   g;
+  std::vector<XdmfCellField> xdmf;
+  const double               t0 = MPI_Wtime();
+
+  PetscFunctionBeginUser;
+  if (!a) PetscFunctionReturn(0);
+  Simulation *sim = a->sim;
+  PetscCall(PetscLogEventBegin(ev_write, 0, 0, 0, 0));
+  PetscCall(Measure(a, &g));
+  const std::string dir = sim->run.output_dir;
+  PetscInt          n;
+  PetscCall(VecGetSize(a->acc, &n)); // the sums the averaged fields are made of: about as much data
+  PetscCall(WriteHDF5File(a->comm, dir + "/" + run_files::averages, (PetscInt64)n * (PetscInt64)sizeof(PetscScalar),
+                          [&](PetscViewer viewer) { return WriteAnalysis(a, g, viewer, &xdmf); }));
   PetscCall(XdmfWriteFile(
-    a->comm, dir + "/analysis.xmf",
-    XdmfDocument(XdmfCellGrid("averages", a->dim, sim->grids.particle.n, sim->domain.lo, a->grid.h, "analysis.h5", xdmf, nullptr),
+    a->comm, dir + "/" + run_files::averages_xdmf,
+    XdmfDocument(XdmfCellGrid("averages", a->dim, sim->grids.particle.n, sim->domain.lo, a->grid.h, run_files::averages, xdmf, nullptr),
                  nullptr)));
   PetscCall(PetscLogEventEnd(ev_write, 0, 0, 0, 0));
   a->wall += MPI_Wtime() - t0;

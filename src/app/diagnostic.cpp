@@ -48,28 +48,33 @@ PetscErrorCode WriteFlaggedCells(Simulation *sim, PetscViewer viewer, const std:
 
 PetscErrorCode SimulationWriteDiagnostic(Simulation *sim, const GuardTrip *trip)
 {
-  const std::string dir = sim->run.output_dir, file = "guard_failure.h5";
-  PetscViewer       viewer;
-  PetscInt64        n    = 0;
+  const std::string dir = sim->run.output_dir, file = run_files::guard_h5;
+  PetscInt64        n = 0, bytes = 0, part = 0, gas = 0;
   const PetscReal   step = (PetscReal)sim->step;
 
   PetscFunctionBeginUser;
-  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
-  PetscCall(PetscViewerHDF5Open(sim->comm, (dir + "/" + file + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "step", PETSC_REAL, &step));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "guard", PETSC_STRING, GuardNames[trip->kind]));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "message", PETSC_STRING, (trip->what + "; " + trip->where).c_str()));
   if (sim->swarm) {
-    PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
-    PetscCall(ParticlesWriteFlagHDF5(sim->swarm, viewer, "flagged", trip->particles));
+    PetscCall(ParticlesGlobalCount(sim->swarm, &n));
+    PetscCall(ParticlesHDF5Bytes(sim->swarm, PETSC_FALSE, &part));
   }
-  if (sim->fluid) {
-    PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
-    PetscCall(WriteFlaggedCells(sim, viewer, trip->fluid_cells));
-  }
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCall(CommitFile(sim->comm, dir + "/" + file));
+  if (sim->fluid) PetscCall(FluidHDF5Bytes(sim->fluid, PETSC_FALSE, &gas));
+  bytes = part + gas + 8 * (n + sim->grids.fluid.n[0] * sim->grids.fluid.n[1] * sim->grids.fluid.n[2]); // and the flags
+  PetscCall(WriteHDF5File(sim->comm, dir + "/" + file, bytes, [&](PetscViewer viewer) {
+    PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "step", PETSC_REAL, &step));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "guard", PETSC_STRING, GuardNames[trip->kind]));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "message", PETSC_STRING, (trip->what + "; " + trip->where).c_str()));
+    if (sim->swarm) {
+      PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+      PetscCall(ParticlesWriteFlagHDF5(sim->swarm, viewer, "flagged", trip->particles));
+    }
+    if (sim->fluid) {
+      PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
+      PetscCall(WriteFlaggedCells(sim, viewer, trip->fluid_cells));
+    }
+    PetscFunctionReturn(0);
+  }));
 
   std::string grids;
   if (sim->swarm) grids += XdmfParticleGrid({sim->time, file, n}, sim->domain.dim, {"flagged"});
@@ -80,7 +85,7 @@ PetscErrorCode SimulationWriteDiagnostic(Simulation *sim, const GuardTrip *trip)
   }
   std::ostringstream doc;
   doc << "  <Grid Name=\"guard_failure\" GridType=\"Collection\" CollectionType=\"Spatial\">\n" << grids << "  </Grid>\n";
-  PetscCall(XdmfWriteFile(sim->comm, dir + "/guard_failure.xmf", XdmfDocument(doc.str(), NULL)));
+  PetscCall(XdmfWriteFile(sim->comm, dir + "/" + run_files::guard_xdmf, XdmfDocument(doc.str(), NULL)));
   PetscFunctionReturn(0);
 }
 

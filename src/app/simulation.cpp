@@ -16,8 +16,9 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
     OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(),
                         &r->progress_interval, NULL));
-  PetscCall(PetscOptionsString("-output_dir", "Directory for monitor.csv, track.csv, particles.csv and summary.json", "", r->output_dir,
-                               r->output_dir, sizeof(r->output_dir), NULL));
+  PetscCall(PetscOptionsString(
+    "-output_dir", "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)", "",
+    r->output_dir, r->output_dir, sizeof(r->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles,
                              &r->write_particles, NULL));
   PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid,
@@ -78,7 +79,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
     json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
     json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
   }
-  PetscCall(JsonWrite(sim->comm, (std::string(sim->run.output_dir) + "/summary.json").c_str(), json));
+  PetscCall(JsonWrite(sim->comm, (std::string(sim->run.output_dir) + "/" + run_files::summary).c_str(), json));
   PetscFunctionReturn(0);
 }
 
@@ -118,6 +119,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
   PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, sim->run.couple_substeps, &sim->log, &sim->guards));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
+  if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));
   sim->monitor.particles = sim->run.particles;
   sim->monitor.fluid     = sim->run.fluid;
   if (sim->coupling) {
@@ -131,11 +133,11 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     GasProbesColumns(sim->probes, &sim->monitor.extra_columns);
   }
   PetscCall(BedAveragesCreate(sim, &sim->averages));
-  PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, &sim->monitor));
-  if (restart) {
-    PetscCall(SimulationReadCheckpoint(sim));
-    PetscCall(MonitorTruncate(sim->comm, &sim->monitor, sim->step));
-  } else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  if (restart) PetscCall(SimulationReadCheckpoint(sim));
+  else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
+  // Inputs read, nothing written yet: the output directory is cleared of what would mix with this run's files.
+  PetscCall(SimulationRemoveStaleOutput(sim));
+  PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, sim->step, &sim->monitor));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
@@ -324,10 +326,11 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscFunctionReturn(0);
   }
   if (dem && sim->run.write_particles)
-    PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/particles.csv").c_str()));
+    PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/" + run_files::particles).c_str()));
   if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
-    PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/fluid_cells.csv").c_str()));
+    PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/" + run_files::fluid_cells).c_str()));
   PetscCall(BedAveragesWrite(sim->averages));
+  PetscCall(MonitorClose(sim->comm, &sim->monitor));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim, tot));
   if (dem)

@@ -513,24 +513,25 @@ PetscErrorCode FluidWriteCellsCSV(Fluid *f, const char *path)
     all.resize((std::size_t)(displs[size - 1] + counts[size - 1]));
   }
   PetscCallMPI(MPI_Gatherv(rows.data(), nloc, MPIU_REAL, all.data(), counts.data(), displs.data(), MPIU_REAL, 0, f->comm));
+  OutputFile out;
+  PetscCall(OutputFileOpen(f->comm, path, OutputFile::REPLACE, &out));
   if (!rank) {
     const std::size_t        ncell = all.size() / kCols;
     std::vector<std::size_t> order(ncell);
     for (std::size_t q = 0; q < ncell; ++q) order[(std::size_t)all[q * kCols]] = q;
-    FILE *fp = fopen(path, "w");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
-    fprintf(fp, "i,j,k,x,y,z,eps,p,u,v,w,ufx,ufy,ufz\n");
+    OutputFilePrintf(&out, "i,j,k,x,y,z,eps,p,u,v,w,ufx,ufy,ufz\n");
     for (std::size_t q = 0; q < ncell; ++q) {
       const PetscReal *r  = &all[order[q] * kCols];
       const long       id = (long)q, i = id % f->n[0], j = (id / f->n[0]) % f->n[1], k = id / (f->n[0] * f->n[1]);
       const long       ijk[3] = {i, j, k};
-      fprintf(fp, "%ld,%ld,%ld", i, j, k);
-      for (int a = 0; a < 3; ++a) fprintf(fp, ",%.10g", (double)(f->dom->lo[a] + (ijk[a] + 0.5) * (a < f->dim ? f->h[a] : f->dom->len[2])));
-      for (int col = 1; col < 9; ++col) fprintf(fp, ",%.17g", (double)r[col]);
-      fprintf(fp, "\n");
+      OutputFilePrintf(&out, "%ld,%ld,%ld", i, j, k);
+      for (int a = 0; a < 3; ++a)
+        OutputFilePrintf(&out, ",%.10g", (double)(f->dom->lo[a] + (ijk[a] + 0.5) * (a < f->dim ? f->h[a] : f->dom->len[2])));
+      for (int col = 1; col < 9; ++col) OutputFilePrintf(&out, ",%.17g", (double)r[col]);
+      OutputFilePrintf(&out, "\n");
     }
-    fclose(fp);
   }
+  PetscCall(OutputFileClose(f->comm, &out));
   PetscFunctionReturn(0);
 }
 

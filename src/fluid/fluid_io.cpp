@@ -29,7 +29,34 @@ PetscErrorCode LoadNamed(Vec v, const char *name, PetscViewer viewer)
   PetscCall(PetscObjectSetName((PetscObject)v, keep.c_str()));
   PetscFunctionReturn(0);
 }
+// The datasets of /fluid: snapshots write the first three, checkpoints all (FluidWriteHDF5, FluidHDF5Bytes).
+// "velocity" is the cell-centred velocity, f->cell_u once FluidGetCellVelocity has filled it.
+struct FluidDataset {
+  const char *name;
+  Vec         v;
+  bool        checkpoint_only;
+};
+std::vector<FluidDataset> FluidDatasets(const Fluid *f)
+{
+  return {{"velocity", f->cell_u, false},          {"pressure", f->p, false},
+          {"void_fraction", f->eps, false},        {"face_velocity", f->u, true},
+          {"void_fraction_old", f->eps_old, true}, {"momentum_source", f->source, true},
+          {"outlet_velocity", f->u_top, true}};
+}
 } // namespace
+
+PetscErrorCode FluidHDF5Bytes(Fluid *f, PetscBool full, PetscInt64 *bytes)
+{
+  PetscFunctionBeginUser;
+  *bytes = 0;
+  for (const FluidDataset &s : FluidDatasets(f)) {
+    PetscInt n;
+    if (s.checkpoint_only && !full) continue;
+    PetscCall(VecGetSize(s.v, &n));
+    *bytes += (PetscInt64)n * (PetscInt64)sizeof(PetscScalar);
+  }
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode FluidWriteHDF5(Fluid *f, PetscViewer viewer, PetscBool full)
 {
@@ -38,14 +65,9 @@ PetscErrorCode FluidWriteHDF5(Fluid *f, PetscViewer viewer, PetscBool full)
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
   PetscCall(FluidGetCellVelocity(f, &cell));
-  PetscCall(ViewNamed(cell, "velocity", viewer));
-  PetscCall(ViewNamed(f->p, "pressure", viewer));
-  PetscCall(ViewNamed(f->eps, "void_fraction", viewer));
+  for (const FluidDataset &s : FluidDatasets(f))
+    if (full || !s.checkpoint_only) PetscCall(ViewNamed(s.v, s.name, viewer));
   if (full) {
-    PetscCall(ViewNamed(f->u, "face_velocity", viewer));
-    PetscCall(ViewNamed(f->eps_old, "void_fraction_old", viewer));
-    PetscCall(ViewNamed(f->source, "momentum_source", viewer));
-    PetscCall(ViewNamed(f->u_top, "outlet_velocity", viewer));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/fluid", "time", PETSC_REAL, &f->time));
     // the next solve rebuilds the preconditioner, in this run and in one restarted from this checkpoint alike, so a
     // restart repeats the uninterrupted run exactly

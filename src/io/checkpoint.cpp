@@ -148,7 +148,8 @@ PetscErrorCode CheckScene(const Simulation *sim, PetscViewer viewer, const char 
 
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
 {
-  OutputSchedule &o = sim->output;
+  OutputSchedule &o       = sim->output;
+  PetscBool       reserve = PETSC_TRUE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(sim->comm, "", "HDF5 output, checkpoints and restart", "Output");
@@ -158,87 +159,117 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   PetscCall(OptionsReal(PetscOptionsObject, "-checkpoint_interval",
                         "Simulated time between checkpoints (0: none); the last step is always checkpointed when set", "s", NonNegative(),
                         &o.checkpoint_interval, NULL));
-  PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5); written to .tmp, then renamed",
-                               "", o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
+  PetscCall(PetscOptionsString(
+    "-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5; its directory must exist); written to .tmp, then renamed", "",
+    o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks); the scene's options must match it", "",
                                o.restart, o.restart, sizeof(o.restart), NULL));
+  PetscBool reserve = PETSC_TRUE;
+  PetscCall(
+    PetscOptionsBool("-output_reserve",
+                     "Reserve each HDF5 file's space before writing it, so that a full disk or a file-size limit stops the run cleanly "
+                     "on every rank (off: a failure inside parallel HDF5 aborts the job, still with exit status 3)",
+                     "", reserve, &reserve, NULL));
   PetscOptionsEnd();
+  OutputSetReserve(reserve);
   if (!o.checkpoint_file[0])
-    PetscCall(PetscSNPrintf(o.checkpoint_file, sizeof(o.checkpoint_file), "%s/checkpoint.h5", sim->run.output_dir));
+    PetscCall(PetscSNPrintf(o.checkpoint_file, sizeof(o.checkpoint_file), "%s/%s", sim->run.output_dir, run_files::checkpoint));
   o.next            = 0.0; // the initial state is the first snapshot
   o.next_checkpoint = o.checkpoint_interval;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
+PetscErrorCode SimulationWriteSeriesXdmf(Simulation *sim)
 {
-  OutputSchedule &o = sim->output;
-  PetscViewer     viewer;
-  char            name[64];
-  PetscInt64      n;
+  const std::vector<SnapshotRecord> &series = sim->output.series;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(name, sizeof(name), "snapshot_%05d.h5", (int)o.series.size()));
-  const std::string path = std::string(sim->run.output_dir) + "/" + name;
-  n                      = 0;
-  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
-  PetscCall(PetscViewerHDF5Open(sim->comm, path.c_str(), FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-  if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
-  if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
-  PetscCall(PetscViewerDestroy(&viewer));
-  o.series.push_back({sim->time, name, n});
-  if (sim->swarm) PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, o.series));
-  if (sim->fluid && !o.fluid_nodes_written) {
+  if (sim->swarm) PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, series));
+  if (sim->fluid && !sim->output.fluid_nodes_written) { // the 2D gas grid's node coordinates, once per run
     PetscCall(XdmfWriteFluidNodes(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid));
-    o.fluid_nodes_written = true;
+    sim->output.fluid_nodes_written = true;
   }
-  if (sim->fluid) PetscCall(XdmfWriteFluid(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid, o.series));
+  if (sim->fluid) PetscCall(XdmfWriteFluid(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid, series));
+  PetscFunctionReturn(0);
+}
+
+namespace {
+// The particle and gas data of a snapshot or (full) a checkpoint, the bulk of the file.
+PetscErrorCode SimulationHDF5Bytes(Simulation *sim, PetscBool full, PetscInt64 *bytes)
+{
+  PetscInt64 part = 0, gas = 0;
+
+  PetscFunctionBeginUser;
+  if (sim->swarm) PetscCall(ParticlesHDF5Bytes(sim->swarm, full, &part));
+  if (sim->fluid) PetscCall(FluidHDF5Bytes(sim->fluid, full, &gas));
+  *bytes = part + gas;
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
+{
+  OutputSchedule   &o    = sim->output;
+  const std::string name = run_files::Snapshot((PetscInt)o.series.size()), path = std::string(sim->run.output_dir) + "/" + name;
+  PetscInt64        n = 0, bytes;
+
+  PetscFunctionBeginUser;
+  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
+  PetscCall(SimulationHDF5Bytes(sim, PETSC_FALSE, &bytes));
+  // the XDMF series lists a snapshot only once its file is complete
+  PetscCall(WriteHDF5File(sim->comm, path, bytes, [&](PetscViewer viewer) {
+    PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+    if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
+    if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
+    PetscFunctionReturn(0);
+  }));
+  o.series.push_back({sim->time, name, n});
+  PetscCall(SimulationWriteSeriesXdmf(sim));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
 {
-  OutputSchedule   &o    = sim->output;
-  const std::string path = o.checkpoint_file;
-  PetscViewer       viewer;
-  PetscMPIInt       size;
+  OutputSchedule &o = sim->output;
+  PetscMPIInt     rank, size;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   // Migration, contact-history sync and neighbour lists now, as a restart does when it loads the checkpoint: both
   // runs then continue from the same ownership of particles by ranks (the coupling's cell sums depend on it).
   if (sim->dem) PetscCall(DemRebuild(sim->dem));
-  PetscCall(PetscViewerHDF5Open(sim->comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-  PetscCall(WriteCount(viewer, "step", sim->step));
-  if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
-  if (sim->dem) {
-    PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
-    PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
-    PetscCall(WriteCount(viewer, "particles_lost", sim->dem->stats.lost.count));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &sim->dem->par.dt_factor));
+  // the snapshot series, so that particles.xmf continues after a restart
+  const PetscInt         ns = rank ? 0 : (PetscInt)o.series.size();
+  std::vector<PetscReal> rows(2 * (std::size_t)ns);
+  for (PetscInt k = 0; k < ns; ++k) {
+    rows[2 * (std::size_t)k]     = o.series[(std::size_t)k].time;
+    rows[2 * (std::size_t)k + 1] = (PetscReal)o.series[(std::size_t)k].particles;
   }
-  PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &sim->run.couple_substeps));
-  PetscCall(WriteScene(sim, viewer));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
-  {
-    // the snapshot series, so that particles.xmf continues after a restart
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
-    const PetscInt         ns = rank ? 0 : (PetscInt)o.series.size();
-    std::vector<PetscReal> rows(2 * (std::size_t)ns);
-    for (PetscInt k = 0; k < ns; ++k) {
-      rows[2 * (std::size_t)k]     = o.series[(std::size_t)k].time;
-      rows[2 * (std::size_t)k + 1] = (PetscReal)o.series[(std::size_t)k].particles;
+  const PetscInt total = (PetscInt)o.series.size();
+  PetscInt64     bytes;
+  PetscCall(SimulationHDF5Bytes(sim, PETSC_TRUE, &bytes));
+  PetscCall(WriteHDF5File(sim->comm, o.checkpoint_file, bytes, [&](PetscViewer viewer) {
+    PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+    PetscCall(WriteCount(viewer, "step", sim->step));
+    if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
+    if (sim->dem) {
+      PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+      PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
+      PetscCall(WriteCount(viewer, "particles_lost", sim->dem->stats.lost.count));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &sim->dem->par.dt_factor));
     }
-    PetscInt total = (PetscInt)o.series.size();
+    PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &sim->run.couple_substeps));
+    PetscCall(WriteScene(sim, viewer));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshots", PETSC_INT, &total));
     if (total) {
       Vec v;
@@ -247,13 +278,12 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
       PetscCall(VecView(v, viewer));
       PetscCall(VecDestroy(&v));
     }
-  }
-  if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
-  if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
-  if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
-  PetscCall(BedAveragesWriteHDF5(sim->averages, viewer));
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCall(CommitFile(sim->comm, path));
+    if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
+    if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
+    if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
+    PetscCall(BedAveragesWriteHDF5(sim->averages, viewer));
+    PetscFunctionReturn(0);
+  }));
   PetscFunctionReturn(0);
 }
 
@@ -322,11 +352,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
       PetscCall(PetscViewerDestroy(&self));
     }
     PetscCall(VecGetArrayRead(v, &a));
-    for (PetscInt k = 0; k < total; ++k) {
-      char name[64];
-      PetscCall(PetscSNPrintf(name, sizeof(name), "snapshot_%05d.h5", (int)k));
-      o.series.push_back({a[2 * k], name, (PetscInt64)a[2 * k + 1]});
-    }
+    for (PetscInt k = 0; k < total; ++k) o.series.push_back({a[2 * k], run_files::Snapshot(k), (PetscInt64)a[2 * k + 1]});
     PetscCall(VecRestoreArrayRead(v, &a));
     PetscCall(VecDestroy(&v));
   }
@@ -359,6 +385,26 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   }
   PetscCall(BedAveragesReadHDF5(sim->averages, viewer));
   PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim)
+{
+  const OutputSchedule &o   = sim->output;
+  const std::string     dir = sim->run.output_dir;
+
+  PetscFunctionBeginUser;
+  if (!o.restart[0]) {
+    std::vector<std::string> also; // this run's checkpoint, wherever -checkpoint_file keeps it
+    if (o.checkpoint_interval > 0) also.push_back(o.checkpoint_file);
+    PetscCall(RemovePreviousRun(sim->comm, dir, also, {sim->inserted.file}));
+  } else {
+    PetscInt removed;
+    PetscCall(RemoveSnapshotsAfter(sim->comm, dir, (PetscInt)o.series.size(), {o.restart}, &removed));
+    if (removed && !o.series.empty()) PetscCall(SimulationWriteSeriesXdmf(sim)); // the XDMF files listed the removed snapshots
+    else if (removed)
+      for (const char *name : {run_files::particles_xdmf, run_files::fluid_xdmf}) PetscCall(RemoveRunFile(sim->comm, dir + "/" + name));
+  }
   PetscFunctionReturn(0);
 }
 

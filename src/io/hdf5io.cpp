@@ -48,6 +48,34 @@ PetscErrorCode ReadRows(PetscViewer viewer, MPI_Comm comm, const char *name, Pet
 
 } // namespace
 
+namespace {
+
+// The datasets of /particles: snapshots write the first five, checkpoints all (ParticlesWriteHDF5, ParticlesHDF5Bytes).
+struct ParticleDataset {
+  const char       *name;
+  PetscInt          bs;
+  const PetscReal  *real;    // or
+  const PetscInt64 *integer; // (written as doubles)
+  bool              checkpoint_only;
+};
+std::vector<ParticleDataset> ParticleDatasets(const ParticleArrays &p)
+{
+  return {{"position", p.dim, p.x, nullptr, false},
+          {"velocity", 3, p.v, nullptr, false},
+          {"omega", 3, p.w, nullptr, false},
+          {"diameter", 1, p.d, nullptr, false},
+          {"id", 1, nullptr, p.id, false},
+          {"force", 3, p.f, nullptr, true},
+          {"torque", 3, p.t, nullptr, true},
+          {"contact_key", p.K, nullptr, p.ckey, true},
+          {"contact_hist", kHistoryStride * p.K, p.chist, nullptr, true},
+          {"drag_coef", 1, p.dcoef, nullptr, true},
+          {"drag_ref", 3, p.dref, nullptr, true},
+          {"drag_cell", 1, nullptr, p.dcell, true}};
+}
+
+} // namespace
+
 PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)sw);
@@ -56,21 +84,12 @@ PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
   PetscFunctionBeginUser;
   PetscCall(ParticleArraysGet(sw, &p));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
-  PetscCall(WriteRows(viewer, comm, "position", p.dim, p.n, p.x));
-  PetscCall(WriteRows(viewer, comm, "velocity", 3, p.n, p.v));
-  PetscCall(WriteRows(viewer, comm, "omega", 3, p.n, p.w));
-  PetscCall(WriteRows(viewer, comm, "diameter", 1, p.n, p.d));
-  PetscCall(WriteRowsInt64(viewer, comm, "id", 1, p.n, p.id));
-  if (full) {
-    PetscCall(WriteRows(viewer, comm, "force", 3, p.n, p.f));
-    PetscCall(WriteRows(viewer, comm, "torque", 3, p.n, p.t));
-    PetscCall(WriteRowsInt64(viewer, comm, "contact_key", p.K, p.n, p.ckey));
-    PetscCall(WriteRows(viewer, comm, "contact_hist", kHistoryStride * p.K, p.n, p.chist));
-    PetscCall(WriteRows(viewer, comm, "drag_coef", 1, p.n, p.dcoef));
-    PetscCall(WriteRows(viewer, comm, "drag_ref", 3, p.n, p.dref));
-    PetscCall(WriteRowsInt64(viewer, comm, "drag_cell", 1, p.n, p.dcell));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
+  for (const ParticleDataset &s : ParticleDatasets(p)) {
+    if (s.checkpoint_only && !full) continue;
+    if (s.real) PetscCall(WriteRows(viewer, comm, s.name, s.bs, p.n, s.real));
+    else PetscCall(WriteRowsInt64(viewer, comm, s.name, s.bs, p.n, s.integer));
   }
+  if (full) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(ParticleArraysRestore(sw, &p));
   PetscFunctionReturn(0);
@@ -91,6 +110,21 @@ PetscErrorCode ParticlesWriteFlagHDF5(DM sw, PetscViewer viewer, const char *nam
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
   PetscCall(WriteRows(viewer, comm, name, 1, (PetscInt)flag.size(), flag.data()));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ParticlesHDF5Bytes(DM sw, PetscBool full, PetscInt64 *bytes)
+{
+  ParticleArrays p;
+  PetscInt64     n, width = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParticlesGlobalCount(sw, &n));
+  PetscCall(ParticleArraysGet(sw, &p));
+  for (const ParticleDataset &s : ParticleDatasets(p))
+    if (full || !s.checkpoint_only) width += s.bs;
+  PetscCall(ParticleArraysRestore(sw, &p));
+  *bytes = n * width * (PetscInt64)sizeof(PetscReal);
   PetscFunctionReturn(0);
 }
 
@@ -223,13 +257,8 @@ std::string XdmfDocument(const std::string &grids, const char *collection)
 
 PetscErrorCode XdmfWriteFile(MPI_Comm comm, const std::string &path, const std::string &text)
 {
-  PetscMPIInt rank;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank) PetscFunctionReturn(0);
-  std::ofstream(path + ".tmp") << text;
-  PetscCheck(!std::rename((path + ".tmp").c_str(), path.c_str()), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s", path.c_str());
+  PetscCall(OutputWriteText(comm, path, text));
   PetscFunctionReturn(0);
 }
 
@@ -285,7 +314,7 @@ std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::v
 {
   std::ostringstream x;
   x << std::setprecision(15); // the times as fluid.xmf gives them, so that ParaView pairs the two series' steps
-  auto               item = [&](const char *name, int comps) {
+  auto item = [&](const char *name, int comps) {
     std::ostringstream d;
     d << "<DataItem Dimensions=\"" << s.particles;
     if (comps > 1) d << " " << comps;
@@ -308,14 +337,10 @@ std::string XdmfParticleGrid(const SnapshotRecord &s, PetscInt dim, const std::v
 
 PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscInt dim, const std::vector<SnapshotRecord> &series)
 {
-  PetscMPIInt rank;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank) PetscFunctionReturn(0);
-  std::string grids;
+  std::string grids; // every rank holds the series; rank 0 writes
   for (const SnapshotRecord &s : series) grids += XdmfParticleGrid(s, dim, {});
-  PetscCall(XdmfWriteFile(comm, dir + "/particles.xmf", XdmfDocument(grids, "particles")));
+  PetscCall(XdmfWriteFile(comm, dir + "/" + run_files::particles_xdmf, XdmfDocument(grids, "particles")));
   PetscFunctionReturn(0);
 }
 
@@ -327,8 +352,6 @@ std::vector<XdmfCellField> XdmfFluidFields(PetscInt dim)
 PetscErrorCode XdmfWriteFluidNodes(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid)
 {
   PetscMPIInt rank;
-  Vec         v;
-  PetscViewer viewer;
 
   PetscFunctionBeginUser;
   if (dom.dim != 2) PetscFunctionReturn(0);
@@ -337,47 +360,31 @@ PetscErrorCode XdmfWriteFluidNodes(MPI_Comm comm, const std::string &dir, const 
   if (!rank)
     for (PetscInt j = 0; j <= grid.n[1]; ++j)
       for (PetscInt i = 0; i <= grid.n[0]; ++i) xy.insert(xy.end(), {dom.lo[0] + i * grid.h[0], dom.lo[1] + j * grid.h[1]});
-  const std::string path = dir + "/" + kFluidNodesFile;
-  PetscCall(VecCreateMPIWithArray(comm, 2, (PetscInt)xy.size(), PETSC_DECIDE, xy.data(), &v));
-  PetscCall(PetscObjectSetName((PetscObject)v, "nodes"));
-  PetscCall(PetscViewerHDF5Open(comm, (path + ".tmp").c_str(), FILE_MODE_WRITE, &viewer));
-  PetscCall(VecView(v, viewer));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "units", PETSC_STRING, "m"));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "description", PETSC_STRING,
-                                          "x, y of the gas grid's nodes, x fastest (the geometry of fluid.xmf)"));
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCall(VecDestroy(&v));
-  PetscCall(CommitFile(comm, path));
+  const PetscInt64 bytes = (PetscInt64)(grid.n[0] + 1) * (grid.n[1] + 1) * 2 * (PetscInt64)sizeof(PetscScalar);
+  PetscCall(WriteHDF5File(comm, dir + "/" + kFluidNodesFile, bytes, [&](PetscViewer viewer) {
+    Vec v;
+    PetscFunctionBeginUser;
+    PetscCall(VecCreateMPIWithArray(comm, 2, (PetscInt)xy.size(), PETSC_DECIDE, xy.data(), &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, "nodes"));
+    PetscCall(VecView(v, viewer));
+    PetscCall(VecDestroy(&v));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "units", PETSC_STRING, "m"));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/nodes", "description", PETSC_STRING,
+                                            "x, y of the gas grid's nodes, x fastest (the geometry of fluid.xmf)"));
+    PetscFunctionReturn(0);
+  }));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &dom, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series)
 {
-  PetscMPIInt rank;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank) PetscFunctionReturn(0);
   const std::vector<XdmfCellField> fields = XdmfFluidFields(dom.dim);
   const std::string                nodes  = std::string(kFluidNodesFile) + ":/nodes";
   std::string                      grids;
   for (const SnapshotRecord &s : series) grids += XdmfCellGrid("gas", dom.dim, grid.n, dom.lo, grid.h, s.file, fields, &s.time, nodes);
-  PetscCall(XdmfWriteFile(comm, dir + "/fluid.xmf", XdmfDocument(grids, "gas")));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CommitFile(MPI_Comm comm, const std::string &path)
-{
-  PetscMPIInt rank;
-  int         err = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Barrier(comm));
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) err = std::rename((path + ".tmp").c_str(), path.c_str());
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "cannot rename %s.tmp to %s", path.c_str(), path.c_str());
+  PetscCall(XdmfWriteFile(comm, dir + "/" + run_files::fluid_xdmf, XdmfDocument(grids, "gas")));
   PetscFunctionReturn(0);
 }
 

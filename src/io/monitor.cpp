@@ -4,34 +4,10 @@
 #include "fluidbed/kernels/verlet.hpp"
 
 #include <algorithm>
-#include <cstdlib>
-#include <cstring>
+#include <fstream>
 #include <string>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace fluidbed {
-
-PetscErrorCode MakeDirectory(MPI_Comm comm, const char *dir)
-{
-  PetscMPIInt rank;
-  int         err = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) {
-    std::string path;
-    for (const char *c = dir; *c; ++c) {
-      path += *c;
-      if (*c == '/' || !c[1]) {
-        if (mkdir(path.c_str(), 0775) && errno != EEXIST) err = errno;
-      }
-    }
-  }
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "-output_dir: cannot create directory %s (%s)", dir, strerror(err));
-  PetscFunctionReturn(0);
-}
 
 PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
 {
@@ -73,11 +49,47 @@ PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, Monitor *m)
+namespace {
+
+// Opens a log file of rows keyed by their first column, the step: a fresh file with its header, or on a restart the
+// file continued after last_step, rows written after it (by the run that is continued, past the checkpoint) dropped.
+PetscErrorCode OpenLog(MPI_Comm comm, const std::string &path, PetscBool append, PetscInt64 last_step, const std::string &header,
+                       OutputFile *f)
 {
   PetscMPIInt rank;
-  PetscInt    ids[256], nids = 256;
-  PetscBool   set = PETSC_FALSE;
+  int         exists = 0, dropped = 0;
+  std::string kept;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank && append) {
+    std::ifstream in(path);
+    exists = in.good();
+    for (std::string line; exists && std::getline(in, line);) {
+      const bool row = !line.empty() && line[0] >= '0' && line[0] <= '9'; // the header starts with a letter
+      if (row && std::stoll(line) > (long long)last_step) ++dropped;
+      else kept += line + "\n";
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&exists, 1, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(&dropped, 1, MPI_INT, 0, comm));
+  if (dropped) {
+    PetscCall(OutputWriteText(comm, path, kept));
+    PetscCall(PetscPrintf(comm, "Output: dropped %d row(s) after step %lld (written after the checkpoint) from %s\n", dropped,
+                          (long long)last_step, path.c_str()));
+  }
+  PetscCall(OutputFileOpen(comm, path, exists ? OutputFile::APPEND : OutputFile::CREATE, f));
+  if (!exists) OutputFilePrintf(f, "%s\n", header.c_str());
+  PetscCall(OutputFileFlush(comm, f));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, PetscInt64 last_step, Monitor *m)
+{
+  PetscInt  ids[256], nids = 256;
+  PetscBool set = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   m->interval = t_final / 200.0;
@@ -88,56 +100,40 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
   if (set) m->track_ids.assign(ids, ids + nids);
-  m->dir = dir;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) {
-    const std::string path  = std::string(dir) + "/monitor.csv";
-    const bool        fresh = !append || access(path.c_str(), F_OK) != 0;
-    m->csv                  = fopen(path.c_str(), fresh ? "w" : "a");
-    PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path.c_str());
-    if (fresh) {
-      fprintf(m->csv, "step,time");
-      if (m->particles)
-        fprintf(m->csv,
-                ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
-                "outlet_removed,rebuilds");
-      if (m->fluid) fprintf(m->csv, ",fluid_dt,gas_max_speed,gas_courant,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow");
-      for (const std::string &name : m->extra_columns) fprintf(m->csv, ",%s", name.c_str());
-      fprintf(m->csv, "\n");
-    }
-    if (!m->track_ids.empty()) {
-      const std::string tpath  = std::string(dir) + "/track.csv";
-      const bool        tfresh = !append || access(tpath.c_str(), F_OK) != 0;
-      m->track                 = fopen(tpath.c_str(), tfresh ? "w" : "a");
-      PetscCheck(m->track, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", tpath.c_str());
-      if (tfresh) fprintf(m->track, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
-    }
-  }
+  std::string header = "step,time";
+  if (m->particles)
+    header += ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
+              "outlet_removed,rebuilds";
+  if (m->fluid) header += ",fluid_dt,gas_max_speed,gas_courant,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow";
+  for (const std::string &name : m->extra_columns) header += "," + name;
+  PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::monitor, append, last_step, header, &m->csv));
+  if (!m->track_ids.empty())
+    PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::track, append, last_step, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz",
+                      &m->track));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
                             const FluidStats *fluid, const std::vector<PetscReal> *extra)
 {
+  OutputFile *f = &m->csv;
+
   PetscFunctionBeginUser;
-  (void)comm;
   m->last_row_step = step;
-  if (m->csv) {
-    fprintf(m->csv, "%lld,%.10e", (long long)step, (double)time);
-    if (m->particles)
-      fprintf(m->csv, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count,
-              (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0],
-              (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
-              (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
-    if (m->fluid && fluid)
-      fprintf(m->csv, ",%.6e,%.6e,%.4f,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed,
-              (double)fluid->courant, (int)fluid->ksp_its, (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div,
-              (double)fluid->rhs_scale, (double)fluid->inflow, (double)fluid->outflow);
-    if (extra)
-      for (PetscReal v : *extra) fprintf(m->csv, ",%.12e", (double)v);
-    fprintf(m->csv, "\n");
-    fflush(m->csv);
-  }
+  OutputFilePrintf(f, "%lld,%.10e", (long long)step, (double)time);
+  if (m->particles)
+    OutputFilePrintf(f, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count,
+                     (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0],
+                     (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
+                     (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
+  if (m->fluid && fluid)
+    OutputFilePrintf(f, ",%.6e,%.6e,%.4f,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed,
+                     (double)fluid->courant, (int)fluid->ksp_its, (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div,
+                     (double)fluid->rhs_scale, (double)fluid->inflow, (double)fluid->outflow);
+  if (extra)
+    for (PetscReal v : *extra) OutputFilePrintf(f, ",%.12e", (double)v);
+  OutputFilePrintf(f, "\n");
+  PetscCall(OutputFileFlush(comm, f));
   PetscFunctionReturn(0);
 }
 
@@ -164,66 +160,33 @@ PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &p));
   PetscCallMPI(MPI_Reduce(loc.data(), glob.data(), (int)loc.size(), MPIU_REAL, MPI_SUM, 0, comm));
-  if (m->track) {
+  if (m->track.fp) {
     for (std::size_t k = 0; k < nt; ++k) {
       const PetscReal *r = &glob[13 * k];
       if (r[0] == 0.0) continue; // not (or no longer) in the system
-      fprintf(m->track, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n", (long long)step,
-              (double)time, (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12]);
+      OutputFilePrintf(&m->track, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n",
+                       (long long)step, (double)time, (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9],
+                       r[10], r[11], r[12]);
     }
   }
+  PetscCall(OutputFileFlush(comm, &m->track));
   PetscFunctionReturn(0);
 }
 
-namespace {
-// Keeps the header and the rows whose first field (the step) is at most `step`; returns the file reopened for appending.
-FILE *KeepRowsUpTo(FILE *fp, const std::string &path, PetscInt64 step)
+PetscErrorCode MonitorClose(MPI_Comm comm, Monitor *m)
 {
-  if (!fp) return fp;
-  fclose(fp);
-  FILE *in = fopen(path.c_str(), "r");
-  if (!in) return fopen(path.c_str(), "a");
-  std::string kept, line;
-  char        buf[8192];
-  bool        header = true;
-  while (fgets(buf, sizeof(buf), in)) {
-    line += buf;
-    if (line.back() != '\n' && !feof(in)) continue; // a long row: read on
-    if (header || std::strtoll(line.c_str(), nullptr, 10) <= step) kept += line;
-    header = false;
-    line.clear();
-  }
-  fclose(in);
-  FILE *out = fopen(path.c_str(), "w");
-  if (out) {
-    fputs(kept.c_str(), out);
-    fclose(out);
-  }
-  return fopen(path.c_str(), "a");
-}
-} // namespace
-
-PetscErrorCode MonitorTruncate(MPI_Comm comm, Monitor *m, PetscInt64 step)
-{
-  PetscMPIInt rank;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) {
-    m->csv = KeepRowsUpTo(m->csv, m->dir + "/monitor.csv", step);
-    PetscCheck(m->csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/monitor.csv", m->dir.c_str());
-    if (m->track) m->track = KeepRowsUpTo(m->track, m->dir + "/track.csv", step);
-  }
-  m->last_row_step = step;
+  PetscCall(OutputFileClose(comm, &m->csv));
+  if (!m->track_ids.empty()) PetscCall(OutputFileClose(comm, &m->track));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode MonitorDestroy(Monitor *m)
 {
   PetscFunctionBeginUser;
-  if (m->csv) fclose(m->csv);
-  if (m->track) fclose(m->track);
-  m->csv = m->track = nullptr;
+  for (OutputFile *f : {&m->csv, &m->track})
+    if (f->fp) fclose(f->fp); // left open only by a run that stopped early: its rows are flushed
+  m->csv = m->track = OutputFile();
   PetscFunctionReturn(0);
 }
 

@@ -41,22 +41,22 @@ PetscErrorCode WriteParticlesCSV(DM sw, const char *path)
     all.resize((std::size_t)(displs[size - 1] + counts[size - 1]));
   }
   PetscCallMPI(MPI_Gatherv(rows.data(), nloc, MPIU_REAL, all.data(), counts.data(), displs.data(), MPIU_REAL, 0, comm));
+  OutputFile out;
+  PetscCall(OutputFileOpen(comm, path, OutputFile::REPLACE, &out));
   if (!rank) {
     const std::size_t        n = all.size() / kCols;
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[a * kCols] < all[b * kCols]; });
-    FILE *fp = fopen(path, "w");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
-    fprintf(fp, "id,d,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
+    OutputFilePrintf(&out, "id,d,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz\n");
     for (std::size_t k : order) {
       const PetscReal *r = &all[k * kCols];
-      fprintf(fp, "%lld", (long long)r[0]);
-      for (int c = 1; c < kCols; ++c) fprintf(fp, ",%.17g", (double)r[c]);
-      fprintf(fp, "\n");
+      OutputFilePrintf(&out, "%lld", (long long)r[0]);
+      for (int c = 1; c < kCols; ++c) OutputFilePrintf(&out, ",%.17g", (double)r[c]);
+      OutputFilePrintf(&out, "\n");
     }
-    fclose(fp);
   }
+  PetscCall(OutputFileClose(comm, &out));
   PetscFunctionReturn(0);
 }
 
@@ -98,16 +98,8 @@ std::string JsonWriter::Text() const
 
 PetscErrorCode JsonWrite(MPI_Comm comm, const char *path, const JsonWriter &json)
 {
-  PetscMPIInt rank;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) {
-    FILE *fp = fopen(path, "w");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
-    fprintf(fp, "%s\n", json.Text().c_str());
-    fclose(fp);
-  }
+  PetscCall(OutputWriteText(comm, path, json.Text() + "\n"));
   PetscFunctionReturn(0);
 }
 

@@ -166,6 +166,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   } else {
     PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-insert_type file needs -insert_file");
     PetscCall(ReadParticleCSV(comm, file, &g));
+    report->file = file;
   }
 
   const std::size_t N = g.x.size();
