@@ -11,6 +11,7 @@
 #include "fluidbed/grids.hpp"
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
+#include "fluidbed/option_report.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
 #include "fluidbed/probes.hpp"
@@ -57,6 +58,7 @@ struct Simulation {
   PetscReal       time       = 0.0;
   PetscInt64      steps_run  = 0; // steps taken by this run (a restart continues the count in step)
   double          wall_setup = 0.0, wall_run = 0.0;
+  UnusedOptions   unused_options; // options without effect in the run, listed at its end
 };
 
 // The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step). The

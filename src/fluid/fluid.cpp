@@ -77,7 +77,7 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Gas dynamic viscosity", "Pa s", Positive(1e3), &f->mu, NULL));
   PetscCall(OptionsEnum(PetscOptionsObject, "-limiter", "TVD limiter of the convective fluxes", FluidLimiterTypes, &lim, NULL));
   PetscCall(
-    PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
+    OptionsBool(PetscOptionsObject, "-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", &f->deps_dt, NULL));
   n = 3;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force",
                              "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)", "N/m^3",
@@ -92,8 +92,8 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse",
                        "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A eps, implicit drag)", 1,
                        1000000, &f->pc_reuse, NULL));
-  PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells,
-                             &f->output_cells, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end",
+                        &f->output_cells, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",
                         {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
   n = 5;

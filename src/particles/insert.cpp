@@ -86,13 +86,13 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   GlobalParticles        g;
   std::vector<PetscReal> lpos(3 * kMaxList), lvel(3 * kMaxList), lomg(3 * kMaxList), ldiam(kMaxList);
   PetscInt  npos = (PetscInt)lpos.size(), nlvel = (PetscInt)lvel.size(), nlomg = (PetscInt)lomg.size(), nldiam = (PetscInt)ldiam.size();
-  PetscBool set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
+  PetscBool set_lpos = PETSC_FALSE, set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "insert_", "Initial particles", "Insertion");
-  PetscCall(PetscOptionsEnum("-type",
-                             "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)",
-                             "", InsertTypes, (PetscEnum)type, (PetscEnum *)&type, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-type",
+                        "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)",
+                        InsertTypes, (PetscEnum *)&type, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-count", "Number of particles (lattice, random)", 0, PETSC_MAX_INT, &count, &set_count));
   PetscCall(OptionsReal(PetscOptionsObject, "-bed_height",
                         "Settled bed height that sets the particle count with -insert_packing (instead of -insert_count)", "m",
@@ -110,13 +110,18 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
                              velocity, &nvel, PETSC_TRUE, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-velocity_random", "Amplitude of a random initial velocity added per component", "m/s",
                         Closed(0.0, 1e3), &vel_random, NULL));
-  PetscCall(PetscOptionsRealArray("-positions", "list: particle centres x,y,z,x,y,z,... [m]", "", lpos.data(), &npos, NULL));
-  PetscCall(PetscOptionsRealArray("-velocities", "list: velocities vx,vy,vz,... [m/s]", "", lvel.data(), &nlvel, &set_lvel));
-  PetscCall(PetscOptionsRealArray("-omegas", "list: angular velocities wx,wy,wz,... [rad/s]", "", lomg.data(), &nlomg, &set_lomg));
-  PetscCall(PetscOptionsRealArray("-diameters", "list: diameters [m] (default -particle_diameter)", "", ldiam.data(), &nldiam, &set_ldiam));
-  PetscCall(PetscOptionsString("-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)", "", file, file,
-                               sizeof(file), NULL));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-positions", "list: particle centres x,y,z,x,y,z,...", "m", AnyReal(), lpos.data(), &npos,
+                             PETSC_FALSE, &set_lpos));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-velocities", "list: velocities vx,vy,vz,...", "m/s", AnyReal(), lvel.data(), &nlvel,
+                             PETSC_FALSE, &set_lvel));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-omegas", "list: angular velocities wx,wy,wz,...", "rad/s", AnyReal(), lomg.data(),
+                             &nlomg, PETSC_FALSE, &set_lomg));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-diameters", "list: diameters [m] (default -particle_diameter)", "", AnyReal(),
+                             ldiam.data(), &nldiam, PETSC_FALSE, &set_ldiam));
+  PetscCall(OptionsString(PetscOptionsObject, "-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)",
+                          "a CSV file", file, sizeof(file), NULL));
   PetscOptionsEnd();
+  if (!set_lpos) npos = 0; // not given: no list
 
   for (int a = 0; a < dim; ++a) {
     PetscCheck(region[2 * a] < region[2 * a + 1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-insert_region: min %.6g >= max %.6g along axis %d",
