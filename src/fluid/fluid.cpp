@@ -202,6 +202,15 @@ PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid 
   PetscCall(FluidReadOptions(f));
   PetscCall(FluidReadBoundaryOptions(f));
 
+  // The gas stencil is 2 cells wide: PETSc's DMDA stops a rank that owns fewer, on that rank alone (the others
+  // wait for it). Every rank holds all ownership ranges, so every rank checks them.
+  for (int a = 0; a < f->dim; ++a)
+    for (std::size_t r = 0; r < grid.own[a].size(); ++r)
+      PetscCheck((grid.own[a].size() == 1 && !f->periodic[a]) || grid.own[a][r] >= 2, comm, PETSC_ERR_USER_INPUT,
+                 "-grid_n%c %d split over %d ranks along %c leaves %d fluid cell(s) to a rank; the gas needs at least 2 per rank: use "
+                 "fewer ranks, more -grid_n%c cells or another -pgrid_processors",
+                 "xyz"[a], (int)f -> n[a], (int)grid.own[a].size(), "xyz"[a], (int)grid.own[a][r], "xyz"[a]);
+
   PetscCall(CreateLayoutDA(f, 1, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_s));
   PetscCall(CreateLayoutDA(f, f->dim, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_u));
   PetscCall(CreateLayoutDA(f, f->dim, DMDA_STENCIL_STAR, 1, PETSC_FALSE, &f->da_c));
