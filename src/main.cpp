@@ -34,11 +34,12 @@ std::vector<std::string> OptionsFileWords(const char *text)
 }
 
 // Errors caused by the input (out-of-range or inconsistent options) get one clear line instead of a traceback.
-// PETSC_ERR_ARG_UNKNOWN_TYPE: a solver type that PETSc does not know, from an option fluidbed does not check itself.
+// PETSC_ERR_ARG_UNKNOWN_TYPE: a solver type that PETSc does not know, from an option fluidbed does not check itself;
+// PETSC_ERR_FILE_UNEXPECTED / _READ: an input file (-insert_file, -restart) without what it should hold.
 bool IsInputError(PetscErrorCode n)
 {
   return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_USER ||
-         n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_ARG_UNKNOWN_TYPE;
+         n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_ARG_UNKNOWN_TYPE || n == PETSC_ERR_FILE_UNEXPECTED || n == PETSC_ERR_FILE_READ;
 }
 
 // A failed write (full disk, unwritable path), raised on every rank: one line, exit status EXIT_OUTPUT.
