@@ -44,7 +44,10 @@ std::string Diagnose(const char *path)
     if (attr >= 0) H5Aclose(attr);
   } else if (H5Aexists_by_name(file, "/", "step", H5P_DEFAULT) > 0 && H5Aexists_by_name(file, "/", "checkpoint_next", H5P_DEFAULT) > 0) {
     // written before checkpoints carried the marker: the same layout, accepted
-  } else if (H5Aexists_by_name(file, "/", "time", H5P_DEFAULT) > 0) {
+  } else if (H5Lexists(file, "/measures", H5P_DEFAULT) > 0 && H5Lexists(file, "/series", H5P_DEFAULT) > 0) {
+    why = "time averages (analysis.h5), not a checkpoint";
+  } else if (H5Aexists_by_name(file, "/", "time", H5P_DEFAULT) > 0 &&
+             (H5Lexists(file, "/particles", H5P_DEFAULT) > 0 || H5Lexists(file, "/fluid", H5P_DEFAULT) > 0)) {
     why = "a snapshot (snapshot_NNNNN.h5, for ParaView), not a checkpoint: restart from the checkpoint.h5 that -checkpoint_interval "
           "writes";
   } else {

@@ -78,7 +78,7 @@ check_cases([(["-fluid", "-domain_dim", "2", "-domain_lx", "0.01", "-domain_ly",
 # -restart files: a real checkpoint of a small 2D scene, cut to half, an empty file, random bytes, a snapshot,
 # and checkpoints of another scene.
 scene = ["-domain_dim", "2", "-domain_lx", "0.02", "-domain_ly", "0.02", "-domain_lz", "0.001", "-insert_count", "50"]
-src, _ = t.run(None, args=scene + ["-t_final", "0.002", "-checkpoint_interval", "0.001", "-output_interval", "0.001"], outdir="restart_src")
+src, _ = t.run(None, args=scene + ["-t_final", "0.002", "-checkpoint_interval", "0.001", "-output_interval", "0.001", "-average"], outdir="restart_src")
 files = os.path.abspath("restart_files")
 shutil.rmtree(files, ignore_errors=True)
 os.makedirs(files)
@@ -88,7 +88,8 @@ data = open(checkpoint, "rb").read()
 open(os.path.join(files, "half.h5"), "wb").write(data[:len(data) // 2])
 open(os.path.join(files, "empty.h5"), "wb").close()
 open(os.path.join(files, "random.h5"), "wb").write(os.urandom(4096))
-shutil.copy(os.path.join(src, "snapshot_00001.h5"), os.path.join(files, "snapshot_00001.h5"))
+for name in ("snapshot_00001.h5", "analysis.h5"):
+    shutil.copy(os.path.join(src, name), os.path.join(files, name))
 
 
 def f(name):
@@ -100,6 +101,7 @@ check_cases([
     (["-restart", f("empty.h5")], ["-restart", f("empty.h5"), "empty"]),
     (["-restart", f("random.h5")], ["-restart", f("random.h5"), "not an HDF5 file"]),
     (["-restart", f("snapshot_00001.h5")], ["-restart", f("snapshot_00001.h5"), "a snapshot", "not a checkpoint"]),
+    (["-restart", f("analysis.h5")], ["-restart", f("analysis.h5"), "time averages", "not a checkpoint"]),
     (["-restart", f("missing.h5")], ["-restart", f("missing.h5"), "no such file"]),
     (["-restart", files], ["-restart", files, "a directory"]),
     (["-restart", checkpoint, "-domain_dim", "3", "-domain_lz", "0.02"], ["-restart", checkpoint, "2D run", "-domain_dim"]),
