@@ -151,10 +151,11 @@ int main(int argc, char **argv)
     PetscMPIInt rank;
     PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
     if (rank) fprintf(stderr, "fluidbed: error: %s\n", first_error.c_str()); // rank 0 has printed its own
-    fprintf(stderr, "fluidbed: the error stopped rank %d only; aborting the other ranks\n", (int)rank);
+    fprintf(stderr, "fluidbed: the error stopped rank %d but not every rank; aborting the run\n", (int)rank);
     MPI_Abort(PETSC_COMM_WORLD, status);
   }
   if (ierr) PETSCABORT(PETSC_COMM_WORLD, ierr);
+  PetscCallMPI(MPI_Comm_free(&agree));
   PetscCall(PetscFinalize());
   return 0;
 }

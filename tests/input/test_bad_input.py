@@ -111,3 +111,12 @@ check_cases([
 # ... and the checkpoint itself restarts.
 _, p = t.run(None, args=scene + ["-t_final", "0.003", "-restart", checkpoint], outdir="good_restart")
 t.check("Restart from" in p.stdout, "the checkpoint restarts: %s" % [l for l in p.stdout.splitlines() if "Restart" in l])
+
+# An error raised on one rank only (rank 0 cannot open monitor.csv, here a directory) must not leave the other rank
+# waiting forever: the run ends, with the message, within the 60 s timeout (main aborts after waiting 10 s).
+blocked = os.path.abspath("blocked_output")
+shutil.rmtree(blocked, ignore_errors=True)
+os.makedirs(os.path.join(blocked, "monitor.csv"))
+_, p = t.run(None, args=["-t_final", "0"], nprocs=2, outdir=blocked, expect_fail=True, timeout=60, clean=False)
+t.check(p.returncode != 0 and "monitor.csv" in p.stdout + p.stderr, "2 ranks, an error on rank 0 only: exit %d, %s" %
+        (p.returncode, [l for l in (p.stdout + p.stderr).splitlines() if "error" in l.lower()][:1]))
