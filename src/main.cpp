@@ -54,6 +54,7 @@ std::string OptionHolding(const char *mess)
 {
   static const char *const patterns[] = {"Input string ", "Unknown logical value: "};
   std::string              value;
+  if (!mess) return "";
   for (const char *pat : patterns)
     if (!strncmp(mess, pat, strlen(pat))) {
       value = mess + strlen(pat);
@@ -81,7 +82,7 @@ PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, cons
   if (p == PETSC_ERROR_INITIAL && (IsInputError(n) || IsOutputError(n))) {
     PetscMPIInt       rank   = 0;
     const std::string option = OptionHolding(mess);
-    first_error              = (option.empty() ? "" : option + ": ") + mess;
+    first_error              = (option.empty() ? "" : option + ": ") + (mess ? mess : "");
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank); // options errors are raised on every rank: print once
     if (!rank) fprintf(stderr, "fluidbed: error: %s\n", first_error.c_str());
     return n;
@@ -95,16 +96,19 @@ PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, cons
 // part of a grid) can stop that rank alone, while the others wait for it in a collective call: then PetscFinalize
 // would hang. Each stopping rank waits here, on a communicator of its own, for all the others; when they do not all
 // arrive within `seconds`, the caller aborts the run.
-bool AllRanksStopped(MPI_Comm agree, double seconds)
+PetscErrorCode AllRanksStopped(MPI_Comm agree, double seconds, PetscBool *all)
 {
   MPI_Request req;
   int         done = 0;
-  MPI_Ibarrier(agree, &req);
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Ibarrier(agree, &req));
   for (const double t0 = MPI_Wtime(); !done && MPI_Wtime() - t0 < seconds;) {
-    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    PetscCallMPI(MPI_Test(&req, &done, MPI_STATUS_IGNORE));
     if (!done) usleep(1000);
   }
-  return done;
+  *all = done ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode Run()
@@ -143,7 +147,9 @@ int main(int argc, char **argv)
   const PetscErrorCode ierr = Run();
   if (ierr && (IsInputError(ierr) || IsOutputError(ierr))) {
     const int status = IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
-    if (AllRanksStopped(agree, 10.0)) { // finish cleanly with a nonzero status
+    PetscBool all    = PETSC_FALSE;
+    PetscCall(AllRanksStopped(agree, 10.0, &all));
+    if (all) { // finish cleanly with a nonzero status
       PetscCallMPI(MPI_Comm_free(&agree));
       PetscCall(PetscFinalize());
       return status;
