@@ -2,6 +2,7 @@
 
 #include <petscksp.h>
 
+#include <cstring>
 #include <set>
 #include <string>
 #include <vector>
