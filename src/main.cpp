@@ -3,8 +3,10 @@
 #include "fluidbed/status.hpp"
 
 #include <csignal>
+#include <cstring>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 static const char help[] =
@@ -33,10 +35,12 @@ std::vector<std::string> OptionsFileWords(const char *text)
 }
 
 // Errors caused by the input (out-of-range or inconsistent options) get one clear line instead of a traceback.
+// PETSC_ERR_ARG_UNKNOWN_TYPE: a solver type that PETSc does not know, from an option fluidbed does not check itself;
+// PETSC_ERR_FILE_UNEXPECTED / _READ: an input file (-insert_file, -restart) without what it should hold.
 bool IsInputError(PetscErrorCode n)
 {
   return n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_USER_INPUT || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_USER ||
-         n == PETSC_ERR_FILE_OPEN;
+         n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_ARG_UNKNOWN_TYPE || n == PETSC_ERR_FILE_UNEXPECTED || n == PETSC_ERR_FILE_READ;
 }
 
 // A failed write (full disk, unwritable path), raised on every rank: one line, exit status EXIT_OUTPUT.
@@ -45,17 +49,67 @@ bool IsOutputError(PetscErrorCode n)
   return n == PETSC_ERR_FILE_WRITE;
 }
 
+// The option whose value PETSc's own reader (of a solver option such as -fluid_p_ksp_rtol) could not convert: its
+// message names the value only ("Input string abc has no numeric value"). Empty when no option holds that value.
+std::string OptionHolding(const char *mess)
+{
+  static const char *const patterns[] = {"Input string ", "Unknown logical value: "};
+  std::string              value;
+  if (!mess) return "";
+  for (const char *pat : patterns)
+    if (!strncmp(mess, pat, strlen(pat))) {
+      value = mess + strlen(pat);
+      value = value.substr(0, value.find(' '));
+    }
+  if (value.empty()) return "";
+  char *all = NULL;
+  if (PetscOptionsGetAll(NULL, &all) || !all) return "";
+  std::istringstream in(all);
+  std::string        prev, word, found;
+  while (in >> word) {
+    if (word == value && prev.size() > 1 && prev[0] == '-' && found.empty()) found = prev;
+    prev = word;
+  }
+  PetscFree(all);
+  return found;
+}
+
+// The first input or output error of this rank, printed by the rank that raised it when the ranks do not agree.
+std::string first_error;
+
 PetscErrorCode InputErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p,
                                  const char *mess, void *ctx)
 {
   if (p == PETSC_ERROR_INITIAL && (IsInputError(n) || IsOutputError(n))) {
-    PetscMPIInt rank = 0;
+    PetscMPIInt       rank   = 0;
+    const std::string option = OptionHolding(mess);
+    first_error              = (option.empty() ? "" : option + ": ") + (mess ? mess : "");
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank); // options errors are raised on every rank: print once
-    if (!rank) fprintf(stderr, "fluidbed: error: %s\n", mess);
+    if (!rank) fprintf(stderr, "fluidbed: error: %s\n", first_error.c_str());
     return n;
   }
   if (p == PETSC_ERROR_REPEAT && (IsInputError(n) || IsOutputError(n))) return n; // already reported
   return PetscTraceBackErrorHandler(comm, line, func, file, n, p, mess, ctx);
+}
+
+// Input errors are raised on every rank (options and files are read identically everywhere) and write failures are
+// agreed on by all ranks, so every rank normally stops at the same point. A check on data of one rank only (its
+// part of a grid) can stop that rank alone, while the others wait for it in a collective call: then PetscFinalize
+// would hang. Each stopping rank waits here, on a communicator of its own, for all the others; when they do not all
+// arrive within `seconds`, the caller aborts the run.
+PetscErrorCode AllRanksStopped(MPI_Comm agree, double seconds, PetscBool *all)
+{
+  MPI_Request req;
+  int         done = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Ibarrier(agree, &req));
+  for (const double t0 = MPI_Wtime(); !done && MPI_Wtime() - t0 < seconds;) {
+    PetscCallMPI(MPI_Test(&req, &done, MPI_STATUS_IGNORE));
+    if (!done) usleep(1000);
+  }
+  *all = done ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
 }
 
 // status: the run's exit status (status.hpp), nonzero when a guard stopped it.
@@ -93,15 +147,27 @@ int main(int argc, char **argv)
   if (default_scene)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "No arguments: running the default scene, examples/jetted_bed_2d.opts (built in)\n"));
   PetscCall(PetscPushErrorHandler(InputErrorHandler, NULL));
+  MPI_Comm agree;
+  PetscCallMPI(MPI_Comm_dup(PETSC_COMM_WORLD, &agree));
   int                  status = fluidbed::EXIT_OK;
   const PetscErrorCode ierr   = Run(&status);
-  if (ierr && ierr != PETSC_ERR_FILE_OPEN && (IsInputError(ierr) || IsOutputError(ierr))) {
-    // Options are read identically on every rank and write failures are agreed on by all ranks, so every rank
-    // stops here: finish cleanly with a nonzero status.
-    PetscCall(PetscFinalize());
-    return IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
+  if (ierr && (IsInputError(ierr) || IsOutputError(ierr))) {
+    status           = IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
+    PetscBool all    = PETSC_FALSE;
+    PetscCall(AllRanksStopped(agree, 10.0, &all));
+    if (all) { // finish cleanly with a nonzero status
+      PetscCallMPI(MPI_Comm_free(&agree));
+      PetscCall(PetscFinalize());
+      return status;
+    }
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+    if (rank) fprintf(stderr, "fluidbed: error: %s\n", first_error.c_str()); // rank 0 has printed its own
+    fprintf(stderr, "fluidbed: the error stopped rank %d but not every rank; aborting the run\n", (int)rank);
+    MPI_Abort(PETSC_COMM_WORLD, status);
   }
   if (ierr) PETSCABORT(PETSC_COMM_WORLD, ierr);
+  PetscCallMPI(MPI_Comm_free(&agree));
   PetscCall(PetscFinalize());
   return status;
 }

@@ -127,6 +127,7 @@ struct JsonWriter {
   void        Integer(const char *key, long long v);
   void        String(const char *key, const std::string &v);
   void        Object(const char *key, const JsonWriter &inner);
+  void        StringArray(const char *key, const std::vector<std::string> &v);
   std::string Text() const;
 };
 PetscErrorCode JsonWrite(MPI_Comm comm, const char *path, const JsonWriter &json);

@@ -12,6 +12,7 @@
 #include "fluidbed/guards.hpp"
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
+#include "fluidbed/option_report.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
 #include "fluidbed/probes.hpp"
@@ -65,6 +66,7 @@ struct Simulation {
   PetscReal  time_origin = 0.0;
   int        exit_status = 0; // the process exit status (status.hpp): a guard's when one stopped the run
   double     wall_setup = 0.0, wall_run = 0.0;
+  UnusedOptions   unused_options; // options without effect in the run, listed at its end
 };
 
 // The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step),

@@ -112,8 +112,9 @@ PetscErrorCode SetFromOptions(BedAverages *a, PetscBool *on)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(a->comm, "", "Time averages of the bed on the particle grid (analysis.h5, analysis.xmf, summary.json)", "Analysis");
-  PetscCall(PetscOptionsBool("-average", "Time-average the bed on the particle grid from -average_start (on when -average_start is given)",
-                             "", enable, &enable, &set_enable));
+  PetscCall(OptionsBool(PetscOptionsObject, "-average",
+                        "Time-average the bed on the particle grid from -average_start (on when -average_start is given)", &enable,
+                        &set_enable));
   PetscCall(
     OptionsReal(PetscOptionsObject, "-average_start", "Simulated time of the first sample", "s", NonNegative(1e6), &a->start, &set_start));
   PetscCall(OptionsReal(PetscOptionsObject, "-average_interval",

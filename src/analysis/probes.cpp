@@ -8,7 +8,7 @@ namespace fluidbed {
 
 PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProbes *pr)
 {
-  PetscReal h[64], pts[3 * 64];
+  PetscReal h[64] = {0}, pts[3 * 64] = {0}; // -help prints the first entry as the default
   PetscInt  nh = 64, np = 3 * 64;
   PetscBool set_h, set_p;
 

@@ -1,4 +1,5 @@
 #include "fluidbed/simulation.hpp"
+#include "fluidbed/checkpoint_check.hpp"
 #include "fluidbed/options.hpp"
 
 #include <string>
@@ -16,14 +17,13 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
     OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(),
                         &r->progress_interval, NULL));
-  PetscCall(PetscOptionsString(
-    "-output_dir", "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)", "",
-    r->output_dir, r->output_dir, sizeof(r->output_dir), NULL));
-  PetscCall(PetscOptionsBool("-output_particles", "Write particles.csv (sorted by id) at the end", "", r->write_particles,
-                             &r->write_particles, NULL));
-  PetscCall(PetscOptionsBool("-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)", "", r->fluid,
-                             &r->fluid, NULL));
-  PetscCall(PetscOptionsBool("-particles", "Turn the particles (DEM) on", "", r->particles, &r->particles, NULL));
+  PetscCall(OptionsString(PetscOptionsObject, "-output_dir", "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)",
+                          "a directory", r->output_dir, sizeof(r->output_dir), NULL));
+  PetscCall(
+    OptionsBool(PetscOptionsObject, "-output_particles", "Write particles.csv (sorted by id) at the end", &r->write_particles, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)",
+                        &r->fluid, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-particles", "Turn the particles (DEM) on", &r->particles, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1,
                        100000, &r->couple_substeps, NULL));
   PetscOptionsEnd();
@@ -71,6 +71,11 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
   PetscCall(BedAveragesAddSummary(sim->averages, &json));
+  {
+    std::vector<std::string> unused;
+    for (const UnusedOption &u : sim->unused_options) unused.push_back(u.name);
+    json.StringArray("unused_options", unused);
+  }
   json.Number("wall_time_setup", sim->wall_setup);
   json.Number("wall_time_run", sim->wall_run);
   for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
@@ -103,6 +108,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(RunControlSetFromOptions(sim->comm, &sim->run));
   PetscCall(OutputScheduleSetFromOptions(sim));
   const PetscBool restart = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
+  if (restart) PetscCall(CheckpointValidate(sim->comm, sim->output.restart)); // before the set-up, not after it
   PetscCall(DomainSetFromOptions(sim->comm, &sim->domain));
   if (sim->run.particles) PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
   PetscCall(GridsCreate(sim->comm, sim->domain, sim->run.particles ? sim->props.d_max : 0.0, &sim->grids));
@@ -309,6 +315,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
   sim->steps_run   = sim->step - step0;
   sim->exit_status = GuardsExitStatus(sim->guards);
 
+  PetscCall(UnusedOptionsCollect(sim, &sim->unused_options)); // every option has been read by now
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
@@ -323,6 +330,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
       PetscPrintf(sim->comm, "Stopped by guard '%s' at step %lld, t = %.6g s (exit status %d): %s/guard_failure.xmf marks where%s\n",
                   GuardNames[GuardsStopTrip(sim->guards)->kind], (long long)sim->step, (double)sim->time, sim->exit_status,
                   sim->run.output_dir, sim->output.checkpoint_interval > 0 ? "; continue from the last checkpoint with -restart" : ""));
+    PetscCall(UnusedOptionsPrint(sim->comm, sim->unused_options));
     PetscFunctionReturn(0);
   }
   if (dem && sim->run.write_particles)
@@ -351,6 +359,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
   if (!sim->guards->trips.empty())
     PetscCall(PetscPrintf(sim->comm, "Guards tripped under -guard_action warn: %d (summary.json \"guard_trips\")\n",
                           (int)sim->guards->trips.size()));
+  PetscCall(UnusedOptionsPrint(sim->comm, sim->unused_options));
   PetscFunctionReturn(0);
 }
 

@@ -22,8 +22,8 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
                         Closed(0.01, 2.0), &p->skin, NULL));
   PetscCall(
     OptionsInt(PetscOptionsObject, "-max_contacts", "Contact history slots per particle (walls included)", 4, 128, &p->max_contacts, NULL));
-  PetscCall(PetscOptionsBool("-pseudo2d", "3D only: confine motion to the x-y plane (one-particle-deep beds)", "", p->pseudo2d,
-                             &p->pseudo2d, NULL));
+  PetscCall(
+    OptionsBool(PetscOptionsObject, "-pseudo2d", "3D only: confine motion to the x-y plane (one-particle-deep beds)", &p->pseudo2d, NULL));
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, "wall_", "DEM: particle-wall contacts (walls are particles of infinite diameter)", "DEM");

@@ -317,13 +317,14 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
                         CouplingGridTypes, (PetscEnum *)&c->mode, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-couple_eps_min", "Floor of the void fraction (a cell overfilled by particle centres)", "",
                         Closed(0.01, 0.9), &c->eps_min, NULL));
-  PetscCall(PetscOptionsBool(
-    "-couple_drag_model_b",
+  PetscCall(OptionsBool(
+    PetscOptionsObject, "-couple_drag_model_b",
     "Model B particle drag = eq. 2.18 / eps, so that a packed bed's pressure drop is Ergun's and U_mf is eq. 3.1's (false: eq. 2.18 as "
     "printed, the Model A force)",
-    "", c->divide_eps, &c->divide_eps, NULL));
-  PetscCall(PetscOptionsString("-drag_model", "Drag law: ergun_wenyu (the seed's blend, eq. 2.11-2.14), gidaspow, wen_yu, ergun, di_felice",
-                               "", c->drag_name, c->drag_name, sizeof(c->drag_name), NULL));
+    &c->divide_eps, NULL));
+  PetscCall(OptionsString(PetscOptionsObject, "-drag_model",
+                          "Drag law: ergun_wenyu (the seed's blend, eq. 2.11-2.14), gidaspow, wen_yu, ergun, di_felice",
+                          "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice", c->drag_name, sizeof(c->drag_name), NULL));
   PetscOptionsEnd();
   PetscCall(DragLawGet(c->drag_name, &c->drag));
   PetscCheck(FluidIsModelB(fluid), comm, PETSC_ERR_USER_INPUT, "the coupling implements the seed's Model B: use -fluid_model B");

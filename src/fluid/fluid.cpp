@@ -77,7 +77,7 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsReal(PetscOptionsObject, "-mu", "Gas dynamic viscosity", "Pa s", Positive(1e3), &f->mu, NULL));
   PetscCall(OptionsEnum(PetscOptionsObject, "-limiter", "TVD limiter of the convective fluxes", FluidLimiterTypes, &lim, NULL));
   PetscCall(
-    PetscOptionsBool("-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", "", f->deps_dt, &f->deps_dt, NULL));
+    OptionsBool(PetscOptionsObject, "-deps_dt", "Keep d(eps)/dt in the continuity equation (the seed drops it)", &f->deps_dt, NULL));
   n = 3;
   PetscCall(OptionsRealArray(PetscOptionsObject, "-body_force",
                              "Uniform momentum source fx,fy,fz added to the coupling's (e.g. a mean pressure gradient)", "N/m^3",
@@ -92,8 +92,8 @@ PetscErrorCode FluidReadOptions(Fluid *f)
   PetscCall(OptionsInt(PetscOptionsObject, "-pc_reuse",
                        "Rebuild the pressure preconditioner only every N solves while the matrix changes (model A eps, implicit drag)", 1,
                        1000000, &f->pc_reuse, NULL));
-  PetscCall(PetscOptionsBool("-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end", "", f->output_cells,
-                             &f->output_cells, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-output_cells", "Write fluid_cells.csv (cell fields in natural ordering) at the end",
+                        &f->output_cells, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-eps", "Frozen uniform void fraction when no particles are coupled", "",
                         {0.0, 1.0, true, false}, &f->eps_uniform, NULL));
   n = 5;
@@ -201,6 +201,15 @@ PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid 
   f->vol = f->h[0] * f->h[1] * f->h[2];
   PetscCall(FluidReadOptions(f));
   PetscCall(FluidReadBoundaryOptions(f));
+
+  // The gas stencil is 2 cells wide: PETSc's DMDA stops a rank that owns fewer, on that rank alone (the others
+  // wait for it). Every rank holds all ownership ranges, so every rank checks them.
+  for (int a = 0; a < f->dim; ++a)
+    for (std::size_t r = 0; r < grid.own[a].size(); ++r)
+      PetscCheck((grid.own[a].size() == 1 && !f->periodic[a]) || grid.own[a][r] >= 2, comm, PETSC_ERR_USER_INPUT,
+                 "-grid_n%c %d split over %d ranks along %c leaves %d fluid cell(s) to a rank; the gas needs at least 2 per rank: use "
+                 "fewer ranks, more -grid_n%c cells or another -pgrid_processors",
+                 "xyz"[a], (int)f -> n[a], (int)grid.own[a].size(), "xyz"[a], (int)grid.own[a][r], "xyz"[a]);
 
   PetscCall(CreateLayoutDA(f, 1, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_s));
   PetscCall(CreateLayoutDA(f, f->dim, DMDA_STENCIL_BOX, 2, PETSC_TRUE, &f->da_u));

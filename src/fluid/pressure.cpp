@@ -5,6 +5,7 @@
 // div(c grad phi) = div(eps u*) + d(eps)/dt. The matrix is the volume integral of -div(c grad .): symmetric,
 // positive semi-definite, singular (constants) unless the top is a pressure outlet (phi = 0 on that face).
 #include "fluid_impl.hpp"
+#include "fluidbed/options.hpp"
 
 #include <petscdmda.h>
 
@@ -237,9 +238,9 @@ PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured)
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, "fluid_p_", "-pc_type", pc_type, sizeof(pc_type), &pc_set));
   PetscOptionsBegin(f->comm, "fluid_p_", "Pressure matrix", "Fluid");
-  PetscCall(PetscOptionsString("-mat_type",
-                               "Pressure matrix type (default: hyprestruct for 3D grids without periodic directions, else aij)",
-                               "DMSetMatType", mat_type, mat_type, sizeof(mat_type), &mat_set));
+  PetscCall(OptionsString(PetscOptionsObject, "-mat_type",
+                          "Pressure matrix type (default: hyprestruct for 3D grids without periodic directions, else aij)", "a Mat type",
+                          mat_type, sizeof(mat_type), &mat_set));
   PetscOptionsEnd();
   const PetscBool struct_ok = (PetscBool)(f->dim == 3 && !f->periodic[0] && !f->periodic[1] && !f->periodic[2]);
   PetscBool       want_pfmg = pc_set ? (PetscBool)!strcmp(pc_type, PCPFMG) : struct_ok;
@@ -264,6 +265,7 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
 
   PetscFunctionBeginUser;
   PetscCall(DMDASetInterpolationType(f->da_p, DMDA_Q0));
+  PetscCall(OptionsCheckSolverTypes(f->comm, "fluid_p_")); // a misspelled -fluid_p_ksp_type names the choices
   PetscCall(ChooseMatrixType(f, &structured));
   PetscCall(DMCreateMatrix(f->da_p, &f->A));
   PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));

@@ -14,11 +14,11 @@ PetscErrorCode DomainSetFromOptions(MPI_Comm comm, Domain *d)
   PetscCall(OptionsReal(PetscOptionsObject, "-ly", "Bed height (y, vertical)", "m", Positive(100.0), &d->len[1], NULL));
   PetscCall(
     OptionsReal(PetscOptionsObject, "-lz", "Bed depth (z); in 2D the depth used for cell volumes", "m", Positive(100.0), &d->len[2], NULL));
-  PetscCall(PetscOptionsBool("-periodic_x", "Periodic in x (particles wrap, no side walls)", "", d->periodic[0], &d->periodic[0], NULL));
-  PetscCall(PetscOptionsBool("-periodic_y", "Periodic in y", "", d->periodic[1], &d->periodic[1], NULL));
-  PetscCall(PetscOptionsBool("-periodic_z", "Periodic in z (3D only)", "", d->periodic[2], &d->periodic[2], NULL));
-  PetscCall(PetscOptionsBool("-top_outlet", "Open top: particles leaving through y = ly are removed and counted", "", d->top_outlet,
-                             &d->top_outlet, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-periodic_x", "Periodic in x (particles wrap, no side walls)", &d->periodic[0], NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-periodic_y", "Periodic in y", &d->periodic[1], NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-periodic_z", "Periodic in z (3D only)", &d->periodic[2], NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-top_outlet", "Open top: particles leaving through y = ly are removed and counted",
+                        &d->top_outlet, NULL));
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, "", "Body force", "Domain");

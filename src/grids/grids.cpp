@@ -68,14 +68,14 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, "pgrid_", "Particle grid (coarse, aligned with the fluid grid)", "Grids");
-  PetscCall(PetscOptionsIntArray(
-    "-ratio", "Fluid cells per particle cell along x,y,z (one value: all directions); must divide -grid_n*; 1 = single grid", "", ratio,
-    &nratio, &set_ratio));
+  PetscCall(OptionsIntArray(PetscOptionsObject, "-ratio",
+                            "Fluid cells per particle cell along x,y,z (one value: all directions); must divide -grid_n*; 1 = single grid",
+                            PETSC_MIN_INT, PETSC_MAX_INT, ratio, &nratio, &set_ratio));
   PetscCall(OptionsReal(PetscOptionsObject, "-cell_diameters",
                         "Target particle cell size in largest particle diameters, used when -pgrid_ratio is not given", "d",
                         Closed(1.0, 1000.0), &cell_diameters, NULL));
-  PetscCall(PetscOptionsIntArray("-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)", "", procs,
-                                 &nprocs, &set_procs));
+  PetscCall(OptionsIntArray(PetscOptionsObject, "-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)",
+                            PETSC_MIN_INT, PETSC_MAX_INT, procs, &nprocs, &set_procs));
   PetscOptionsEnd();
 
   if (set_ratio) {

@@ -1,4 +1,5 @@
 // HDF5 snapshots with their XDMF series, checkpoints written atomically, and restart.
+#include "fluidbed/checkpoint_check.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/simulation.hpp"
 
@@ -159,17 +160,17 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   PetscCall(OptionsReal(PetscOptionsObject, "-checkpoint_interval",
                         "Simulated time between checkpoints (0: none); the last step is always checkpointed when set", "s", NonNegative(),
                         &o.checkpoint_interval, NULL));
-  PetscCall(PetscOptionsString(
-    "-checkpoint_file", "Checkpoint path (default <output_dir>/checkpoint.h5; its directory must exist); written to .tmp, then renamed", "",
-    o.checkpoint_file, o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
-  PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks); the scene's options must match it", "",
-                               o.restart, o.restart, sizeof(o.restart), NULL));
+  PetscCall(OptionsString(PetscOptionsObject, "-checkpoint_file",
+                          "Checkpoint path (default <output_dir>/checkpoint.h5; its directory must exist); written to .tmp, then renamed",
+                          "a file path", o.checkpoint_file, sizeof(o.checkpoint_file), NULL));
+  PetscCall(OptionsString(PetscOptionsObject, "-restart",
+                          "Continue from this checkpoint (any number of ranks); the scene's options must match it",
+                          "a checkpoint file (checkpoint.h5)", o.restart, sizeof(o.restart), NULL));
   PetscBool reserve = PETSC_TRUE;
-  PetscCall(
-    PetscOptionsBool("-output_reserve",
-                     "Reserve each HDF5 file's space before writing it, so that a full disk or a file-size limit stops the run cleanly "
-                     "on every rank (off: a failure inside parallel HDF5 aborts the job, still with exit status 3)",
-                     "", reserve, &reserve, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-output_reserve",
+                        "Reserve each HDF5 file's space before writing it, so that a full disk or a file-size limit stops the run cleanly "
+                        "on every rank (off: a failure inside parallel HDF5 aborts the job, still with exit status 3)",
+                        &reserve, NULL));
   PetscOptionsEnd();
   OutputSetReserve(reserve);
   if (!o.checkpoint_file[0])
@@ -252,6 +253,7 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
   PetscCall(SimulationHDF5Bytes(sim, PETSC_TRUE, &bytes));
   PetscCall(WriteHDF5File(sim->comm, o.checkpoint_file, bytes, [&](PetscViewer viewer) {
     PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", kCheckpointMarker, PETSC_INT, &kCheckpointFormat)); // snapshots have none
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
     PetscCall(WriteCount(viewer, "step", sim->step));
     if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
@@ -293,11 +295,9 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   PetscViewer     viewer;
   PetscInt        dim, total = 0;
   PetscReal       dt;
-  PetscBool       exists;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscTestFile(o.restart, 'r', &exists));
-  PetscCheck(exists, sim->comm, PETSC_ERR_FILE_OPEN, "-restart: cannot read %s", o.restart);
+  PetscCall(CheckpointValidate(sim->comm, o.restart)); // a wrong file gives one line, not HDF5's error stack
   PetscCall(PetscViewerHDF5Open(sim->comm, o.restart, FILE_MODE_READ, &viewer));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
   PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,

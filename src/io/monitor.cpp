@@ -96,7 +96,8 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities and tracked particles", "Output");
   PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200; 0: every step)", "s",
                         NonNegative(), &m->interval, NULL));
-  PetscCall(PetscOptionsIntArray("-track_ids", "Particle ids whose state goes to track.csv", "", ids, &nids, &set));
+  PetscCall(OptionsIntArray(PetscOptionsObject, "-track_ids", "Particle ids whose state goes to track.csv", PETSC_MIN_INT, PETSC_MAX_INT,
+                            ids, &nids, &set));
   PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
   if (set) m->track_ids.assign(ids, ids + nids);

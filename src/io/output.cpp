@@ -91,6 +91,12 @@ void JsonWriter::Object(const char *key, const JsonWriter &inner)
 {
   body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + inner.Text();
 }
+void JsonWriter::StringArray(const char *key, const std::vector<std::string> &v)
+{
+  std::string list;
+  for (const std::string &s : v) list += (list.empty() ? "" : ", ") + Quote(s);
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": [" + list + "]";
+}
 std::string JsonWriter::Text() const
 {
   return "{\n" + body + "\n}";

@@ -86,13 +86,13 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   GlobalParticles        g;
   std::vector<PetscReal> lpos(3 * kMaxList), lvel(3 * kMaxList), lomg(3 * kMaxList), ldiam(kMaxList);
   PetscInt  npos = (PetscInt)lpos.size(), nlvel = (PetscInt)lvel.size(), nlomg = (PetscInt)lomg.size(), nldiam = (PetscInt)ldiam.size();
-  PetscBool set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
+  PetscBool set_lpos = PETSC_FALSE, set_lvel = PETSC_FALSE, set_lomg = PETSC_FALSE, set_ldiam = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "insert_", "Initial particles", "Insertion");
-  PetscCall(PetscOptionsEnum("-type",
-                             "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)",
-                             "", InsertTypes, (PetscEnum)type, (PetscEnum *)&type, NULL));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-type",
+                        "How particles are placed: lattice, random (non-overlapping), list (-insert_positions) or file (-insert_file)",
+                        InsertTypes, (PetscEnum *)&type, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-count", "Number of particles (lattice, random)", 0, PETSC_MAX_INT, &count, &set_count));
   PetscCall(OptionsReal(PetscOptionsObject, "-bed_height",
                         "Settled bed height that sets the particle count with -insert_packing (instead of -insert_count)", "m",
@@ -110,20 +110,25 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
                              velocity, &nvel, PETSC_TRUE, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-velocity_random", "Amplitude of a random initial velocity added per component", "m/s",
                         Closed(0.0, 1e3), &vel_random, NULL));
-  PetscCall(PetscOptionsRealArray("-positions", "list: particle centres x,y,z,x,y,z,... [m]", "", lpos.data(), &npos, NULL));
-  PetscCall(PetscOptionsRealArray("-velocities", "list: velocities vx,vy,vz,... [m/s]", "", lvel.data(), &nlvel, &set_lvel));
-  PetscCall(PetscOptionsRealArray("-omegas", "list: angular velocities wx,wy,wz,... [rad/s]", "", lomg.data(), &nlomg, &set_lomg));
-  PetscCall(PetscOptionsRealArray("-diameters", "list: diameters [m] (default -particle_diameter)", "", ldiam.data(), &nldiam, &set_ldiam));
-  PetscCall(PetscOptionsString("-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)", "", file, file,
-                               sizeof(file), NULL));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-positions", "list: particle centres x,y,z,x,y,z,...", "m", AnyReal(), lpos.data(), &npos,
+                             PETSC_FALSE, &set_lpos));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-velocities", "list: velocities vx,vy,vz,...", "m/s", AnyReal(), lvel.data(), &nlvel,
+                             PETSC_FALSE, &set_lvel));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-omegas", "list: angular velocities wx,wy,wz,...", "rad/s", AnyReal(), lomg.data(),
+                             &nlomg, PETSC_FALSE, &set_lomg));
+  PetscCall(OptionsRealArray(PetscOptionsObject, "-diameters", "list: diameters [m] (default -particle_diameter)", "", AnyReal(),
+                             ldiam.data(), &nldiam, PETSC_FALSE, &set_ldiam));
+  PetscCall(OptionsString(PetscOptionsObject, "-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)",
+                          "a CSV file", file, sizeof(file), NULL));
   PetscOptionsEnd();
+  if (!set_lpos) npos = 0; // not given: no list
 
   for (int a = 0; a < dim; ++a) {
-    PetscCheck(region[2 * a] < region[2 * a + 1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-insert_region: min %.6g >= max %.6g along axis %d",
-               (double)region[2 * a], (double)region[2 * a + 1], a);
+    PetscCheck(region[2 * a] < region[2 * a + 1], comm, PETSC_ERR_ARG_OUTOFRANGE, "-insert_region: min %.6g >= max %.6g along %c",
+               (double)region[2 * a], (double)region[2 * a + 1], "xyz"[a]);
     PetscCheck(region[2 * a] >= dom.lo[a] - 1e-12 && region[2 * a + 1] <= dom.hi[a] + 1e-12, comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "-insert_region [%.6g, %.6g] along axis %d is outside the domain [%.6g, %.6g]", (double)region[2 * a],
-               (double)region[2 * a + 1], a, (double)dom.lo[a], (double)dom.hi[a]);
+               "-insert_region [%.6g, %.6g] m along %c is outside the box: allowed within [%.6g, %.6g] m (-domain_l%c)",
+               (double)region[2 * a], (double)region[2 * a + 1], "xyz"[a], (double)dom.lo[a], (double)dom.hi[a], "xyz"[a]);
   }
   if (dim == 2) {
     region[4] = dom.lo[2];
@@ -135,6 +140,11 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
   if (type == INSERT_LATTICE || type == INSERT_RANDOM) {
     PetscCheck(!(set_count && set_height), comm, PETSC_ERR_USER_INPUT, "give either -insert_count or -insert_bed_height, not both");
     if (set_height) {
+      // a settled bed taller than the region (by default the box) cannot be placed, however loosely
+      const PetscReal room = box.hi.y - box.lo.y;
+      PetscCheck(bed_height <= room, comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "-insert_bed_height %.6g m is taller than the %s (%.6g m): allowed at most %.6g m", (double)bed_height,
+                 room < dom.len[1] ? "insertion region -insert_region" : "box -domain_ly", (double)room, (double)room);
       const PetscReal d3    = props.d_max > props.d_min
                                 ? (PetscPowReal(props.d_max, 4) - PetscPowReal(props.d_min, 4)) / (4.0 * (props.d_max - props.d_min))
                                 : PetscPowReal(props.d_min, 3);
@@ -147,6 +157,11 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
       if (type == INSERT_LATTICE) g.x = kernels::lattice_fill(box, dim, count, props.d_max, spacing * props.d_max, jitter, rng);
       else g.x = kernels::random_fill(box, dim, g.d, 1e-3 * props.d_min, rng);
     } catch (const std::exception &e) {
+      // the bed height sets the count at -insert_packing, while the particles start on a looser lattice or fill
+      PetscCheck(!set_height, comm, PETSC_ERR_USER_INPUT,
+                 "-insert_bed_height %.6g m (%lld particles at -insert_packing %.6g) does not fit: -insert_type %s: %s; lower "
+                 "-insert_bed_height, or enlarge -insert_region or the box",
+                 (double)bed_height, (long long)count, (double)packing, InsertTypes[type], e.what());
       SETERRQ(comm, PETSC_ERR_USER_INPUT, "-insert_type %s: %s; enlarge -insert_region or reduce the count", InsertTypes[type], e.what());
     }
   } else if (type == INSERT_LIST) {
