@@ -303,6 +303,11 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
   PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,
              (int)sim->domain.dim);
   PetscBool has_scene, has, new_dt = PETSC_FALSE;
+  // what the checkpoint simulates first, then the scene of what it holds
+  PetscCall(HasAttribute(viewer, "dt", &has));
+  PetscCheck(!sim->dem || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
+  PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
+  PetscCheck(!sim->fluid || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
   PetscCall(CheckScene(sim, viewer, o.restart, &has_scene));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
   PetscCall(ReadCount(viewer, "step", &sim->step));
