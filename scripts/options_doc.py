@@ -11,7 +11,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXE = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "fluidbed")
 # Option prefixes that belong to fluidbed (PETSc's own options are documented by PETSc).
 OURS = ("domain_", "gravity", "grid_", "pgrid_", "particle_", "particles", "dem_", "wall_", "insert_", "monitor_", "output_", "t_final",
-        "max_steps", "progress_", "fluid", "inlet_", "outlet_", "couple_", "drag_", "average", "checkpoint_", "restart", "probe_", "analysis_")
+        "max_steps", "progress_", "fluid", "inlet_", "outlet_", "couple_", "drag_", "average", "checkpoint_", "restart", "probe_", "analysis_", "guard_")
 
 with tempfile.TemporaryDirectory() as tmp:  # the run writes its (empty) outputs there
     # -fluid: the gas, inlet, coupling and pressure-solver options are read (and listed) only when the gas is on
