@@ -51,6 +51,8 @@ PetscErrorCode FluidSetUp(Fluid *fluid);
 PetscErrorCode FluidMaxTimeStep(Fluid *fluid, PetscReal *dt);
 // The fixed step of -fluid_dt, or 0 when the step follows the limits.
 PetscReal FluidFixedTimeStep(const Fluid *fluid);
+// -fluid_cfl: the fraction of the explicit limit FluidMaxTimeStep returns (Courant number of a step of that length).
+PetscReal FluidCfl(const Fluid *fluid);
 // Prints the gas properties, boundary conditions and the time-step limits.
 PetscErrorCode FluidView(Fluid *fluid, PetscViewer viewer);
 // One step of length dt: momentum predictor, pressure solve, correction.

@@ -109,6 +109,8 @@ PetscErrorCode GuardsCheckParticles(Guards *guards, PetscInt64 step, PetscReal t
 // After each gas step: pressure solve, Courant number, void fraction, and every -guard_interval gas steps the
 // gas fields' finiteness.
 PetscErrorCode GuardsCheckGas(Guards *guards, PetscInt64 step, PetscReal time);
+// What brings the coupled gas step within its explicit limit dt_max (s): the remedy the Courant guard gives.
+std::string GuardsCourantRemedy(const Guards *guards, PetscReal dt_max);
 // Whether a guard stopped the run, and which (the first trip that did).
 PetscBool        GuardsStopped(const Guards *guards);
 const GuardTrip *GuardsStopTrip(const Guards *guards);

@@ -295,6 +295,11 @@ PetscReal FluidFixedTimeStep(const Fluid *f)
   return f->dt_fixed;
 }
 
+PetscReal FluidCfl(const Fluid *f)
+{
+  return f->cfl;
+}
+
 PetscErrorCode FluidStep(Fluid *f, PetscReal dt)
 {
   PetscFunctionBeginUser;

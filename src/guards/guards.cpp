@@ -232,6 +232,33 @@ PetscErrorCode TripPressure(Guards *g, PetscInt64 step, PetscReal time)
   PetscFunctionReturn(0);
 }
 
+// What brings the gas step within its explicit limit dt_max: fewer substeps when there are some to drop, else a shorter
+// DEM step, a coarser grid or a slower jet (never -couple_substeps at one substep).
+std::string CourantRemedy(const Guards *g, PetscReal dt_max)
+{
+  if (!g->dem) {
+    const FluidStats &fs = FluidGetStats(g->fluid);
+    return Format("a shorter gas step: -fluid_dt at most %.4g s (now %.4g s), or leave -fluid_dt unset", (double)dt_max, (double)fs.dt);
+  }
+  const PetscReal dt = g->dem->par.dt;
+  const PetscInt  k  = (PetscInt)(dt_max / dt);
+  if (g->substeps > 1 && k >= 1)
+    return Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)g->substeps);
+  return Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: -dem_dt_factor at "
+                "most %.3g (now %.3g), a coarser gas grid (-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is "
+                "held at the floor (-couple_eps_min) the gas speeds up through those cells: fix the grid first",
+                (double)dt, (double)dt_max, (int)g->substeps, (double)(g->dem->par.dt_factor * dt_max / dt), (double)g->dem->par.dt_factor);
+}
+
+} // namespace
+
+std::string GuardsCourantRemedy(const Guards *g, PetscReal dt_max)
+{
+  return CourantRemedy(g, dt_max);
+}
+
+namespace {
+
 PetscErrorCode TripCourant(Guards *g, PetscInt64 step, PetscReal time)
 {
   const FluidStats &fs = FluidGetStats(g->fluid);
@@ -248,20 +275,8 @@ PetscErrorCode TripCourant(Guards *g, PetscInt64 step, PetscReal time)
     Format("the gas Courant number stayed above -guard_courant %.3g for %ld gas steps (now %.3g: gas step %.4g s against its explicit "
            "limit %.4g s)",
            (double)g->opt.courant, g->courant_run.run, (double)fs.courant, (double)fs.dt, (double)(fs.dt / PetscMax(fs.courant, 1e-300)));
-  t.where = Format("the largest gas speed %.4g m/s on a face of cell %s", (double)speed, CellText(cell, n, g->dom->dim).c_str());
-  if (g->dem) {
-    const PetscReal dt = g->dem->par.dt;
-    const PetscInt  k  = (PetscInt)(dt_max / dt);
-    if (g->substeps > 1 && k >= 1)
-      t.remedy = Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)g->substeps);
-    else
-      t.remedy =
-        Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: -dem_dt_factor at "
-               "most %.3g (now %.3g), a coarser gas grid (-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is "
-               "held at the floor (-couple_eps_min) the gas speeds up through those cells: fix the grid first",
-               (double)dt, (double)dt_max, (int)g->substeps, (double)(g->dem->par.dt_factor * dt_max / dt), (double)g->dem->par.dt_factor);
-  } else
-    t.remedy = Format("a shorter gas step: -fluid_dt at most %.4g s (now %.4g s), or leave -fluid_dt unset", (double)dt_max, (double)fs.dt);
+  t.where  = Format("the largest gas speed %.4g m/s on a face of cell %s", (double)speed, CellText(cell, n, g->dom->dim).c_str());
+  t.remedy = CourantRemedy(g, dt_max);
   t.fluid_cells.push_back(cell); // marked by the rank that owns it (DiagnosticSnapshot keeps owned cells only)
   PetscCall(Report(g, std::move(t)));
   PetscFunctionReturn(0);

@@ -1,0 +1,314 @@
+#!/usr/bin/env python3
+"""The stability map: where the single grid and the two grids hold on a 2D pseudo-bed of the seed's 750 um jet.
+
+Every point is one run of examples/stability/jet750_2d.opts from the same settled bed, with its gas grid, slit, time
+step, jet and substeps replaced, classified by the run-time guards (docs/reliability.md) and, for the runs that
+finish, by its answers against the reference point (two grids on the seed's fine grid, dt = t_cr/10, 45.3 m/s):
+  stable      finished, every measure within its threshold of the reference;
+  inaccurate  finished, some measure outside (which one is said);
+  unstable    a guard stopped the run (which guard, when), or the start-up refused it.
+Maps: cell_dt (gas cell width / d against -dem_dt_factor), jet_sub (jet velocity against -couple_substeps), closed
+(the closed-box energy of a pure DEM granular gas against -dem_dt_factor). A finished point is never rerun, so the
+study resumes where it stopped; --jobs runs points side by side and --ranks runs each on more ranks. docs/stability.md
+has the results; the table goes to --csv, the figure to --png.
+
+example:
+  scripts/stability_map.py --jobs 2                      # every map, resuming
+  scripts/stability_map.py --maps cell_dt --ranks 2 --jobs 8
+  scripts/stability_map.py --ci --out build/stability_ci # the short version tests/analysis/test_stability_map.py runs
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fbstudy  # noqa: E402
+
+ROOT = fbstudy.ROOT
+SCENE = os.path.join(ROOT, "examples", "stability", "jet750_2d.opts")
+CLOSED = os.path.join(ROOT, "examples", "dem", "granular_gas.opts")
+D, LX, LY, LZ = 7.5e-4, 0.0564, 0.140, 0.00075
+RHO_P, RHO_G, G = 2500.0, 1.205, 9.81
+NXP, NYP, HY = 25, 50, 0.0014  # particle cells along x (2.256 mm = 3 d) and y (2.8 mm); gas cell height below 3 d
+JET_X, JET_W, JET_V = 0.0282, 0.001611429, 45.3  # the seed's slit (5 cells of its 0.322 mm fine grid) and jet
+REFERENCE = {"map": "cell_dt", "method": "two", "cell_d": 0.43, "dt_factor": 0.1, "jet": 45.3, "substeps": 1}
+
+# "inaccurate" thresholds (docs/stability.md): relative to the reference, or absolute where said
+THRESHOLDS = {"dp_rel": 0.10, "bed_height_rel": 0.10, "jet_rel": 0.25, "eps_rms_ratio": 2.0, "floor_share": 0.0, "overlap": 0.05}
+
+
+def grid(cell_d):
+    """Gas grid for gas cells cell_d particle diameters wide: (nx, ny, ratio_x, ratio_y). Below 3.5 d the particle
+    cells stay 2.256 x 2.8 mm (3 x 3.7 d) and the gas cells are 1.4 mm tall (the seed's fine grid); above, square
+    cells of cell_d d serve both (ratio 1, the single grid is the only choice)."""
+    if cell_d >= 3.5:
+        nx = int(round(LX / (cell_d * D)))
+        return nx, int(round(LY / (LX / nx))), 1, 1
+    rx = max(1, int(round(3.0 / cell_d)))
+    return NXP * rx, int(round(LY / HY)), rx, 2
+
+
+def slit(nx, jet):
+    """The slit nearest the seed's width whose edges lie on gas cell faces, centred at JET_X, carrying the seed's flow
+    scaled by jet / 45.3: (width, velocity)."""
+    h = LX / nx
+    centre = JET_X / h  # in cells: whole on a face (an even count), half on a cell centre (odd)
+    odd = abs(centre - math.floor(centre) - 0.5) < 1e-6
+    n = max(1, int(round(JET_W / h)))
+    if (n % 2 == 1) != odd:
+        n = n + 1 if abs((n + 1) * h - JET_W) < abs((n - 1) * h - JET_W) or n == 1 else n - 1
+    w = n * h
+    return w, jet * JET_W / w
+
+
+def point_id(p):
+    if p["map"] == "closed":
+        return "closed_dt%g" % p["dt_factor"]
+    return "%s_%s_cell%g_dt%g_jet%g_sub%d%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], p.get("tag", ""))
+
+
+def options(p, args, settled):
+    if p["map"] == "closed":
+        return ["-options_file", CLOSED, "-max_steps", "-1", "-t_final", args.closed_time, "-dem_dt_factor", p["dt_factor"],
+                "-guard_energy_interval", "10", "-output_particles", "0"]
+    nx, ny, rx, ry = grid(p["cell_d"])
+    w, v = slit(nx, p["jet"])
+    t = args.t_final
+    o = ["-options_file", SCENE, "-grid_nx", nx, "-grid_ny", ny, "-pgrid_ratio", "%d,%d" % (rx, ry), "-couple_grid", p["method"],
+         "-inlet_jets", "%.9g,%.9g,%.9g" % (JET_X, w, v), "-dem_dt_factor", p["dt_factor"], "-couple_substeps", p["substeps"],
+         "-t_final", t, "-average_start", 0.5 * t, "-average_interval", 5e-4, "-output_interval", t / 20, "-output_particles", "0",
+         "-fluid_output_cells", "0", "-monitor_dt", 5e-4]
+    if settled:  # the reference's "_mirror" twin starts from the same bed mirrored about the slit: its own noise
+        o += ["-insert_type", "file", "-insert_file", settled.replace(".csv", "_mirror.csv") if p.get("tag") == "_mirror" else settled]
+    return o
+
+
+def eps_rms(outdir, t0):
+    """Mean over the bed's gas cells (time-mean void fraction below 0.9) of the standard deviation in time of the cell
+    void fraction, over the snapshots from t0 on."""
+    frames = []
+    for path in sorted(glob.glob(os.path.join(outdir, "snapshot_*.h5"))):
+        import h5py
+        with h5py.File(path, "r") as f:
+            if float(f.attrs["time"]) >= t0 - 1e-12 and "fluid" in f:
+                frames.append(np.asarray(f["fluid/void_fraction"]).ravel())
+    if len(frames) < 3:
+        return float("nan")
+    a = np.array(frames)
+    bed = a.mean(axis=0) < 0.9
+    return float(a.std(axis=0)[bed].mean()) if bed.any() else float("nan")
+
+
+def measure(p, s, status, wall, outdir, args):
+    """The point's figures from its summary.json and snapshots."""
+    m = {"id": point_id(p), "exit_status": status, "wall_s": round(wall, 2)}
+    m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps")})
+    if p["map"] != "closed":
+        nx, ny, rx, ry = grid(p["cell_d"])
+        m.update({"gas_cells": "%dx%d" % (nx, ny), "cells_per_particle_cell": "%dx%d" % (rx, ry), "slit_mm": round(1e3 * slit(nx, p["jet"])[0], 4)})
+    if s is None:
+        m["status"] = "refused" if status == 2 else "failed"
+        return m
+    gf = s.get("guard_figures", {})
+    m.update({"status": s["status"], "guard": s.get("guard", ""), "guard_time": s.get("guard_time", ""), "t_end": s["time"],
+              "overlap_max": gf.get("overlap_max"), "displacement_max": gf.get("displacement_max"), "energy_growth_max": gf.get("energy_growth_max"),
+              "floor_share_max": gf.get("floor_share_max"), "eps_raw_min": gf.get("eps_raw_min"), "courant_max": gf.get("courant_max"),
+              "particles_out": s.get("particles_outlet"), "ranks": s.get("ranks")})
+    if "fluid" in s:
+        m["ksp_its"] = s["fluid"].get("pressure_iterations_per_solve")
+    if s["time"] > 0:
+        m["cost_s_per_s_core"] = round(s["wall_time_run"] * s["ranks"] / s["time"], 1)
+    av = s.get("averages")
+    if av and av.get("samples", 0) > 0 and s["status"] != "stopped":
+        weight = s["particles_inserted"] * math.pi / 6 * D ** 3 * (RHO_P - RHO_G) * G / (LX * LZ)
+        m.update({"dp_over_weight": av["pressure_drop_mean_Pa"] / weight, "bed_height_mm": 1e3 * av["expanded_bed_height_volume_m"],
+                  "jet_mm": 1e3 * av["jet_penetration_height_m"], "eps_rms": eps_rms(outdir, 0.5 * args.t_final)})
+    return m
+
+
+def classify(m, ref, tol):
+    """stable / inaccurate / unstable, and why."""
+    if m.get("status") in ("stopped", "refused", "failed"):
+        why = m.get("guard") or m.get("status")
+        return "unstable", why
+    if m["map"] == "closed" or ref is None or "dp_over_weight" not in m:
+        return "stable", ""
+    off = []
+    rel = lambda k: abs(m[k] / ref[k] - 1) if ref.get(k) else 0.0  # noqa: E731
+    if rel("dp_over_weight") > tol["dp_rel"]:
+        off.append("dp %+.0f%%" % (100 * (m["dp_over_weight"] / ref["dp_over_weight"] - 1)))
+    if rel("bed_height_mm") > tol["bed_height_rel"]:
+        off.append("bed height %+.0f%%" % (100 * (m["bed_height_mm"] / ref["bed_height_mm"] - 1)))
+    if ref.get("jet_mm", 0) > 0 and rel("jet_mm") > tol["jet_rel"]:
+        off.append("jet %+.0f%%" % (100 * (m["jet_mm"] / ref["jet_mm"] - 1)))
+    if ref.get("eps_rms") and m["eps_rms"] > tol["eps_rms_ratio"] * ref["eps_rms"]:
+        off.append("eps rms x%.1f" % (m["eps_rms"] / ref["eps_rms"]))
+    if (m.get("floor_share_max") or 0) > tol["floor_share"]:
+        off.append("cells at the floor")
+    if (m.get("overlap_max") or 0) > tol["overlap"]:
+        off.append("overlap %.2f d" % m["overlap_max"])
+    return ("inaccurate", "; ".join(off)) if off else ("stable", "")
+
+
+def points(maps, ci):
+    pts = []
+    if ci:  # one stable and one unstable point per method, on a short window
+        for method, cell, dt in (("two", 0.43, 0.1), ("two", 0.43, 1.5), ("single", 3, 0.1), ("single", 0.43, 0.1)):
+            pts.append({"map": "cell_dt", "method": method, "cell_d": cell, "dt_factor": dt, "jet": JET_V, "substeps": 1})
+        return pts
+    if "cell_dt" in maps:
+        for cell in (4, 3, 1.5, 1, 0.43):
+            for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
+                for method in (("single",) if cell >= 3.5 else ("two", "single")):
+                    pts.append({"map": "cell_dt", "method": method, "cell_d": cell, "dt_factor": dt, "jet": JET_V, "substeps": 1})
+        pts.append(dict(REFERENCE, tag="_mirror"))
+    if "jet_sub" in maps:
+        for jet in (45.3, 68.0, 100.0, 150.0):
+            for sub in (1, 2, 4, 8):
+                # each method at its own best cells: the two grids at the seed's 0.43 d, the single grid at 3 d (finer
+                # single-grid cells overfill with particle centres, the cell_dt map shows)
+                for method, cell in (("two", 0.43), ("single", 3)):
+                    pts.append({"map": "jet_sub", "method": method, "cell_d": cell, "dt_factor": 0.1, "jet": jet, "substeps": sub})
+    if "closed" in maps:
+        for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
+            pts.append({"map": "closed", "dt_factor": dt})
+    return pts
+
+
+def settle(args):
+    """The settled bed every point starts from (and its mirror image about the slit): the scene's particles settled
+    without gas for --settle seconds."""
+    path = os.path.join(args.out, "settled", "particles.csv")
+    s, status, _, reused = fbstudy.run(["-options_file", SCENE, "-fluid", "0", "-t_final", args.settle, "-output_particles", "1",
+                                        "-domain_top_outlet", "0"], os.path.dirname(path), args.ranks, args.exe)
+    if status != 0:
+        sys.exit("stability_map: settling the bed failed (exit %d), see %s/stdout.txt" % (status, os.path.dirname(path)))
+    mirror = path.replace(".csv", "_mirror.csv")
+    if not os.path.isfile(mirror) or not reused:
+        rows = list(csv.reader(open(path)))
+        head = rows[0]
+        ix, ivx, iwz = head.index("x"), head.index("vx"), head.index("wz")
+        with open(mirror, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(head)
+            for r in rows[1:]:
+                r[ix] = repr(LX - float(r[ix]))
+                r[ivx] = repr(-float(r[ivx]))
+                r[iwz] = repr(-float(r[iwz]))
+                w.writerow(r)
+    fbstudy.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
+    return path
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    style = {"stable": ("o", "tab:green"), "inaccurate": ("^", "tab:orange"), "unstable": ("x", "tab:red")}
+    fig, axes = plt.subplots(2, 3, figsize=(15, 9))
+    for col, method in enumerate(("two", "single")):
+        for row, (mp, xk, yk, xl, yl) in enumerate((("cell_dt", "cell_d", "dt_factor", "gas cell width / d", "-dem_dt_factor"),
+                                                    ("jet_sub", "jet", "substeps", "jet velocity (m/s)", "-couple_substeps"))):
+            ax = axes[row][col]
+            for r in rows:
+                if r["map"] != mp or r["method"] != method or r.get("id", "").endswith("_mirror"):
+                    continue
+                mk, c = style[r["class"]]
+                ax.scatter(float(r[xk]), float(r[yk]), marker=mk, c=c, s=80)
+                if r["class"] != "stable":
+                    ax.annotate((r["why"] or "")[:14], (float(r[xk]), float(r[yk])), fontsize=6, xytext=(4, 4), textcoords="offset points")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel(xl)
+            ax.set_ylabel(yl)
+            ax.set_title("%s grid%s: %s" % ("two" if method == "two" else "single", "s" if method == "two" else "", mp))
+    ax = axes[0][2]
+    closed = sorted((r for r in rows if r["map"] == "closed"), key=lambda r: float(r["dt_factor"]))
+    if closed:
+        ax.semilogy([float(r["dt_factor"]) for r in closed], [max(float(r.get("energy_growth_max") or 0), 1e-9) for r in closed], "o-")
+        ax.axhline(0.1, color="tab:red", ls="--", label="-guard_energy_growth")
+        ax.set_xlabel("-dem_dt_factor")
+        ax.set_ylabel("energy growth (closed box)")
+        ax.set_title("closed box: 3000 spheres, pure DEM")
+        ax.legend()
+    axes[1][2].axis("off")
+    for k, (mk, c) in style.items():
+        axes[1][2].scatter([], [], marker=mk, c=c, label=k)
+    axes[1][2].legend(loc="center", fontsize=12)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--maps", default="cell_dt,jet_sub,closed", help="which maps (comma-separated): cell_dt, jet_sub, closed")
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "stability"), help="working directory of the runs (kept: the study resumes)")
+    ap.add_argument("--csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"), help="the table of every point")
+    ap.add_argument("--png", default=os.path.join(ROOT, "docs", "figures", "stability_map.png"), help="the map")
+    ap.add_argument("--ranks", type=int, default=1, help="MPI ranks per point")
+    ap.add_argument("--jobs", type=int, default=1, help="points run side by side")
+    ap.add_argument("--t-final", type=float, default=0.05, help="bed time per point (s); the second half is averaged")
+    ap.add_argument("--settle", type=float, default=0.25, help="settling time of the shared initial bed (s)")
+    ap.add_argument("--closed-time", type=float, default=0.01, help="bed time of the closed-box points (s)")
+    ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--ci", action="store_true", help="two points per method from a lattice (no settling), a short window")
+    args = ap.parse_args()
+    maps = args.maps.split(",")
+    if args.ci:
+        args.t_final = min(args.t_final, 0.003)
+    os.makedirs(args.out, exist_ok=True)
+    settled = None if args.ci else settle(args)
+
+    def work(p):
+        outdir = os.path.join(args.out, point_id(p))
+        s, status, wall, reused = fbstudy.run(options(p, args, settled), outdir, args.ranks, args.exe)
+        return measure(p, s, status, wall, outdir, args), reused
+
+    pts = points(maps, args.ci)
+    results = {}
+    ref_point = [p for p in pts if point_id(p) == point_id(REFERENCE)] or ([] if args.ci else [REFERENCE])
+    if ref_point and not args.ci:  # the reference first: the others are judged against it
+        results[point_id(REFERENCE)] = work(REFERENCE)[0]
+    for p, (m, reused) in fbstudy.run_all([p for p in pts if point_id(p) not in results], args.jobs, work):
+        results[m["id"]] = m
+        fbstudy.log("%-55s %-8s %s%s" % (m["id"], m.get("status"), m.get("guard", ""), " (reused)" if reused else " %.0f s" % m["wall_s"]))
+    ref = results.get(point_id(REFERENCE))
+    tol = dict(THRESHOLDS)
+    mirror = results.get(point_id(dict(REFERENCE, tag="_mirror")))
+    if ref and mirror and "dp_over_weight" in mirror and "dp_over_weight" in ref:
+        # the reference's own spread (the same bed mirrored) sets a floor under the relative thresholds
+        for k, key in (("dp_rel", "dp_over_weight"), ("bed_height_rel", "bed_height_mm"), ("jet_rel", "jet_mm")):
+            if ref.get(key):
+                tol[k] = max(tol[k], 2 * abs(mirror[key] / ref[key] - 1))
+    rows = []
+    for m in results.values():
+        m["class"], m["why"] = classify(m, ref if not args.ci else None, tol)
+        rows.append(m)
+    rows.sort(key=lambda r: r["id"])
+    keys = ["id", "map", "method", "cell_d", "dt_factor", "jet", "substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
+            "status", "exit_status", "guard", "guard_time", "t_end", "dp_over_weight", "bed_height_mm", "jet_mm", "eps_rms", "floor_share_max",
+            "eps_raw_min", "overlap_max", "displacement_max", "energy_growth_max", "courant_max", "ksp_its", "particles_out", "ranks", "wall_s",
+            "cost_s_per_s_core"]
+    os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
+    with open(args.csv, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("%.4g" % r[k] if isinstance(r.get(k), float) else r.get(k, "")) for k in keys})
+    with open(os.path.splitext(args.csv)[0] + "_thresholds.json", "w") as f:
+        json.dump({"thresholds": tol, "reference": ref}, f, indent=1)
+    if not args.ci:
+        os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
+        plot(rows, args.png)
+    counts = {c: sum(r["class"] == c for r in rows) for c in ("stable", "inaccurate", "unstable")}
+    fbstudy.log("stability map: %d points (%s); table %s" % (len(rows), ", ".join("%d %s" % (n, c) for c, n in counts.items()), args.csv))
+
+
+if __name__ == "__main__":
+    main()
