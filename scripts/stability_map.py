@@ -33,6 +33,9 @@ import fbstudy  # noqa: E402
 ROOT = fbstudy.ROOT
 SCENE = os.path.join(ROOT, "examples", "stability", "jet750_2d.opts")
 CLOSED = os.path.join(ROOT, "examples", "dem", "granular_gas.opts")
+SCENE3D = os.path.join(ROOT, "examples", "twogrid_750_jet1_u301.opts")  # the seed's 3D bed, 50,000 particles
+BED3D = os.path.join(ROOT, "examples", "dem", "bed750.opts")  # the same particles settled without gas
+GRIDS3D = {"fine": (175, 200, 5, "7,2,5"), "coarse": (105, 150, 3, "5,2,3")}  # the seed's grids (chapter 5)
 D, LX, LY, LZ = 7.5e-4, 0.0564, 0.140, 0.00075
 RHO_P, RHO_G, G = 2500.0, 1.205, 9.81
 NXP, NYP, HY = 25, 50, 0.0014  # particle cells along x (2.256 mm = 3 d) and y (2.8 mm); gas cell height below 3 d
@@ -70,6 +73,8 @@ def slit(nx, jet):
 def point_id(p):
     if p["map"] == "closed":
         return "closed_dt%g" % p["dt_factor"]
+    if p["map"] == "3d":
+        return "3d_%s_%s_dt%g" % (p["grid3d"], p["method"], p["dt_factor"])
     return "%s_%s_cell%g_dt%g_jet%g_sub%d%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], p.get("tag", ""))
 
 
@@ -77,6 +82,14 @@ def options(p, args, settled):
     if p["map"] == "closed":
         return ["-options_file", CLOSED, "-max_steps", "-1", "-t_final", args.closed_time, "-dem_dt_factor", p["dt_factor"],
                 "-guard_energy_interval", "10", "-output_particles", "0"]
+    if p["map"] == "3d":
+        nx, ny, nz, ratio = GRIDS3D[p["grid3d"]]
+        t = args.t3d
+        return ["-options_file", SCENE3D, "-grid_nx", nx, "-grid_ny", ny, "-grid_nz", nz, "-pgrid_ratio", ratio, "-couple_grid", p["method"],
+                "-dem_dt_factor", p["dt_factor"], "-insert_type", "file", "-insert_file", settled[1], "-t_final", t, "-average_start", 0.5 * t,
+                "-average_interval", 5e-4, "-output_interval", t / 20, "-checkpoint_interval", "0", "-output_particles", "0",
+                "-fluid_output_cells", "0", "-monitor_dt", 5e-4]
+    settled = settled[0] if settled else None
     nx, ny, rx, ry = grid(p["cell_d"])
     w, v = slit(nx, p["jet"])
     t = args.t_final
@@ -109,7 +122,10 @@ def measure(p, s, status, wall, outdir, args):
     """The point's figures from its summary.json and snapshots."""
     m = {"id": point_id(p), "exit_status": status, "wall_s": round(wall, 2)}
     m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps")})
-    if p["map"] != "closed":
+    if p["map"] == "3d":
+        nx, ny, nz, ratio = GRIDS3D[p["grid3d"]]
+        m.update({"gas_cells": "%dx%dx%d" % (nx, ny, nz), "cells_per_particle_cell": ratio.replace(",", "x"), "cell_d": round(LX / nx / D, 3)})
+    elif p["map"] != "closed":
         nx, ny, rx, ry = grid(p["cell_d"])
         m.update({"gas_cells": "%dx%d" % (nx, ny), "cells_per_particle_cell": "%dx%d" % (rx, ry), "slit_mm": round(1e3 * slit(nx, p["jet"])[0], 4)})
     if s is None:
@@ -126,7 +142,8 @@ def measure(p, s, status, wall, outdir, args):
         m["cost_s_per_s_core"] = round(s["wall_time_run"] * s["ranks"] / s["time"], 1)
     av = s.get("averages")
     if av and av.get("samples", 0) > 0 and s["status"] != "stopped":
-        weight = s["particles_inserted"] * math.pi / 6 * D ** 3 * (RHO_P - RHO_G) * G / (LX * LZ)
+        depth = 0.00495 if p["map"] == "3d" else LZ
+        weight = s["particles_inserted"] * math.pi / 6 * D ** 3 * (RHO_P - RHO_G) * G / (LX * depth)
         m.update({"dp_over_weight": av["pressure_drop_mean_Pa"] / weight, "bed_height_mm": 1e3 * av["expanded_bed_height_volume_m"],
                   "jet_mm": 1e3 * av["jet_penetration_height_m"], "eps_rms": eps_rms(outdir, 0.5 * args.t_final)})
     return m
@@ -175,6 +192,10 @@ def points(maps, ci):
                 # single-grid cells overfill with particle centres, the cell_dt map shows)
                 for method, cell in (("two", 0.43), ("single", 3)):
                     pts.append({"map": "jet_sub", "method": method, "cell_d": cell, "dt_factor": 0.1, "jet": jet, "substeps": sub})
+    if "3d" in maps:  # the most telling points on the seed's own 3D grids
+        for g3, method, dt in (("fine", "two", 0.1), ("fine", "single", 0.1), ("coarse", "two", 0.1), ("coarse", "single", 0.1),
+                               ("coarse", "two", 0.5), ("coarse", "two", 1.0)):
+            pts.append({"map": "3d", "grid3d": g3, "method": method, "dt_factor": dt, "jet": JET_V, "substeps": 1})
     if "closed" in maps:
         for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
             pts.append({"map": "closed", "dt_factor": dt})
@@ -203,7 +224,14 @@ def settle(args):
                 r[iwz] = repr(-float(r[iwz]))
                 w.writerow(r)
     fbstudy.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
-    return path
+    path3d = None
+    if "3d" in args.maps.split(","):
+        path3d = os.path.join(args.out, "settled3d", "particles.csv")
+        s3, status, _, _ = fbstudy.run(["-options_file", BED3D, "-output_particles", "1"], os.path.dirname(path3d), max(args.ranks, 2), args.exe)
+        if status != 0:
+            sys.exit("stability_map: settling the 3D bed failed (exit %d)" % status)
+        fbstudy.log("settled 3D bed: %d particles" % s3["particles"])
+    return path, path3d
 
 
 def plot(rows, path):
@@ -256,6 +284,7 @@ def main():
     ap.add_argument("--t-final", type=float, default=0.05, help="bed time per point (s); the second half is averaged")
     ap.add_argument("--settle", type=float, default=0.25, help="settling time of the shared initial bed (s)")
     ap.add_argument("--closed-time", type=float, default=0.01, help="bed time of the closed-box points (s)")
+    ap.add_argument("--t3d", type=float, default=0.03, help="bed time of the 3D points (s)")
     ap.add_argument("--exe", default=fbstudy.EXE)
     ap.add_argument("--ci", action="store_true", help="two points per method from a lattice (no settling), a short window")
     args = ap.parse_args()
