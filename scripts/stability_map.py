@@ -188,9 +188,9 @@ def points(maps, ci):
     if "jet_sub" in maps:
         for jet in (45.3, 68.0, 100.0, 150.0):
             for sub in (1, 2, 4, 8):
-                # each method at its own best cells: the two grids at the seed's 0.43 d, the single grid at 3 d (finer
-                # single-grid cells overfill with particle centres, the cell_dt map shows)
-                for method, cell in (("two", 0.43), ("single", 3)):
+                # each method at its own best cells: the two grids at the seed's 0.43 d, the single grid at 4 d (its
+                # finer cells overfill with particle centres, the cell_dt map shows)
+                for method, cell in (("two", 0.43), ("single", 4)):
                     pts.append({"map": "jet_sub", "method": method, "cell_d": cell, "dt_factor": 0.1, "jet": jet, "substeps": sub})
     if "3d" in maps:  # the most telling points on the seed's own 3D grids
         for g3, method, dt in (("fine", "two", 0.1), ("fine", "single", 0.1), ("coarse", "two", 0.1), ("coarse", "single", 0.1),
