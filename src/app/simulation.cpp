@@ -17,7 +17,8 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
     OptionsInt(PetscOptionsObject, "-max_steps", "Stop after this many steps (-1: no limit)", -1, PETSC_MAX_INT, &r->max_steps, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-progress_interval", "Wall-clock time between progress lines (0: none)", "s", NonNegative(),
                         &r->progress_interval, NULL));
-  PetscCall(OptionsString(PetscOptionsObject, "-output_dir", "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)",
+  PetscCall(OptionsString(PetscOptionsObject, "-output_dir",
+                          "Directory for the run's files (created if missing; a fresh run first removes a previous run's files from it)",
                           "a directory", r->output_dir, sizeof(r->output_dir), NULL));
   PetscCall(
     OptionsBool(PetscOptionsObject, "-output_particles", "Write particles.csv (sorted by id) at the end", &r->write_particles, NULL));
@@ -71,6 +72,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
   PetscCall(BedAveragesAddSummary(sim->averages, &json));
+  SceneModelAddSummary(sim->model, &json);
   {
     std::vector<std::string> unused;
     for (const UnusedOption &u : sim->unused_options) unused.push_back(u.name);
@@ -181,6 +183,9 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)sim->run.couple_substeps, (double)dt_gas));
     }
   }
+  // Every module exists and has read its options: what the scene models, and where it asks for more or less than it can use.
+  PetscCall(SceneModelBuild(sim, &sim->model));
+  PetscCall(SceneModelView(sim->model, viewer));
   sim->wall_setup = MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }
