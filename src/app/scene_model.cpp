@@ -306,7 +306,7 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   }
 
   // What is off.
-  row("heat", "off: not modelled by fluidbed (no energy equation)", "-");
+  row("heat", "off: not modelled by fluidbed (no energy equation)", "no option turns it on");
   json.Bool("heat", false);
 
   {
