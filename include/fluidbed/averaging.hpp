@@ -28,6 +28,8 @@ PetscErrorCode BedAveragesStep(BedAverages *avg);
 PetscErrorCode BedAveragesSample(BedAverages *avg);
 // Writes <output_dir>/analysis.h5 and analysis.xmf and computes the whole-bed measures for the summary.
 PetscErrorCode BedAveragesWrite(BedAverages *avg);
+// When the samples start and how often they are taken (-average_start, -average_interval), s.
+PetscErrorCode BedAveragesSchedule(const BedAverages *avg, PetscReal *start, PetscReal *interval);
 // The "averages" object of summary.json (after BedAveragesWrite).
 PetscErrorCode BedAveragesAddSummary(BedAverages *avg, JsonWriter *json);
 // Checkpoint group /averages: per-cell sums (natural ordering, any rank count), sample count, weight, schedule and

@@ -84,6 +84,8 @@ PetscErrorCode FluidGetGasProperties(const Fluid *fluid, PetscReal *rho, PetscRe
 PetscBool      FluidIsModelB(const Fluid *fluid);
 // The inlet slits (-inlet_jets) in the order given, each as the x range [x_lo, x_hi] of its bottom cells (m).
 PetscErrorCode FluidGetJetSlots(const Fluid *fluid, std::vector<std::array<PetscReal, 2>> *slots);
+// The gas condition of a face as -fluid_bc_<face> names it (noslip, freeslip, outlet, pressure), or "periodic".
+const char *FluidBoundaryType(const Fluid *fluid, Face face);
 
 // For the run-time guards. Whether the face velocities, pressure and void fraction are all finite (collective), and
 // where not: the first non-finite cell in natural ordering (-1 if none) and the field's name.

@@ -128,6 +128,10 @@ struct JsonWriter {
   void        String(const char *key, const std::string &v);
   void        Object(const char *key, const JsonWriter &inner);
   void        StringArray(const char *key, const std::vector<std::string> &v);
+  void        Bool(const char *key, bool v);
+  void        NumberArray(const char *key, const std::vector<double> &v); // non-finite entries as null
+  void        IntegerArray(const char *key, const std::vector<long long> &v);
+  void        BoolArray(const char *key, const std::vector<bool> &v);
   std::string Text() const;
 };
 PetscErrorCode JsonWrite(MPI_Comm comm, const char *path, const JsonWriter &json);

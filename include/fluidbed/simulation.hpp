@@ -16,6 +16,7 @@
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
 #include "fluidbed/probes.hpp"
+#include "fluidbed/scene_model.hpp"
 
 namespace fluidbed {
 
@@ -62,11 +63,12 @@ struct Simulation {
   PetscInt64      steps_run = 0; // steps taken by this run (a restart continues the count in step)
   // With particles the time is time_origin + (step - step_origin) dt: (0, 0) unless a restart changed the time step
   // (a rescue with another -dem_dt_factor), which starts a new origin at the checkpoint.
-  PetscInt64 step_origin = 0;
-  PetscReal  time_origin = 0.0;
-  int        exit_status = 0; // the process exit status (status.hpp): a guard's when one stopped the run
-  double     wall_setup = 0.0, wall_run = 0.0;
-  UnusedOptions   unused_options; // options without effect in the run, listed at its end
+  PetscInt64    step_origin = 0;
+  PetscReal     time_origin = 0.0;
+  int           exit_status = 0; // the process exit status (status.hpp): a guard's when one stopped the run
+  double        wall_setup = 0.0, wall_run = 0.0;
+  UnusedOptions unused_options; // options without effect in the run, listed at its end
+  SceneModel    model;          // what the scene models and why, and its warnings (printed at start-up, in summary.json)
 };
 
 // The DEM step that stands for time t: the first whose time step * dt reaches t - dt / 2 (the nearest step),

@@ -706,6 +706,14 @@ PetscErrorCode BedAveragesWrite(BedAverages *a)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode BedAveragesSchedule(const BedAverages *a, PetscReal *start, PetscReal *interval)
+{
+  PetscFunctionBeginUser;
+  *start    = a ? a->start : 0;
+  *interval = a ? a->interval : 0;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode BedAveragesAddSummary(BedAverages *a, JsonWriter *json)
 {
   JsonWriter in;

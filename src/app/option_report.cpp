@@ -71,18 +71,8 @@ PetscErrorCode UnusedOptionsCollect(Simulation *sim, UnusedOptions *list)
     }
   }
 
-  // -average_start at or after -t_final: the run ends before the first sample.
-  {
-    PetscReal   start;
-    std::string v;
-    PetscCall(PetscOptionsGetReal(NULL, NULL, "-average_start", &start, &given));
-    if (given && start >= sim->run.t_final) {
-      char reason[160]; // snprintf: PetscSNPrintf writes 0 as "0."
-      snprintf(reason, sizeof(reason), "is at or after -t_final %g s: the run ends before averaging starts", (double)sim->run.t_final);
-      PetscCall(Given("-average_start", &given, &v));
-      list->push_back({"-average_start", v, reason});
-    }
-  }
+  // Read, but without effect in this scene as its model found at start-up (averaging that never starts, or is off).
+  list->insert(list->end(), sim->model.without_effect.begin(), sim->model.without_effect.end());
   PetscFunctionReturn(0);
 }
 
@@ -90,8 +80,9 @@ PetscErrorCode UnusedOptionsPrint(MPI_Comm comm, const UnusedOptions &list)
 {
   PetscFunctionBeginUser;
   for (const UnusedOption &u : list)
-    PetscCall(
-      PetscPrintf(comm, "WARNING: option %s%s%s %s\n", u.name.c_str(), u.value.empty() ? "" : " ", u.value.c_str(), u.reason.c_str()));
+    if (!u.printed)
+      PetscCall(
+        PetscPrintf(comm, "WARNING: option %s%s%s %s\n", u.name.c_str(), u.value.empty() ? "" : " ", u.value.c_str(), u.reason.c_str()));
   PetscFunctionReturn(0);
 }
 

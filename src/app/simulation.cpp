@@ -72,6 +72,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
   PetscCall(BedAveragesAddSummary(sim->averages, &json));
+  SceneModelAddSummary(sim->model, &json);
   {
     std::vector<std::string> unused;
     for (const UnusedOption &u : sim->unused_options) unused.push_back(u.name);
@@ -185,6 +186,9 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)sim->run.couple_substeps, (double)dt_gas));
     }
   }
+  // Every module exists and has read its options: what the scene models, and where it asks for more or less than it can use.
+  PetscCall(SceneModelBuild(sim, &sim->model));
+  PetscCall(SceneModelView(sim->model, viewer));
   sim->wall_setup = MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }

@@ -101,6 +101,11 @@ PetscErrorCode FluidGetJetSlots(const Fluid *f, std::vector<std::array<PetscReal
   PetscFunctionReturn(0);
 }
 
+const char *FluidBoundaryType(const Fluid *f, Face face)
+{
+  return f->periodic[face / 2] ? "periodic" : FluidBCTypes[f->bc[face]];
+}
+
 PetscErrorCode FluidReadHDF5(Fluid *f, PetscViewer viewer)
 {
   PetscReal steps;

@@ -70,14 +70,20 @@ std::string Quote(const std::string &s)
   }
   return q + "\"";
 }
-} // namespace
 
-void JsonWriter::Number(const char *key, double v)
+// A JSON number, null when not finite (JSON has no NaN or inf).
+std::string NumberText(double v)
 {
   char buf[64];
   if (std::isfinite(v)) snprintf(buf, sizeof(buf), "%.10g", v);
   else snprintf(buf, sizeof(buf), "null");
-  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + buf;
+  return buf;
+}
+} // namespace
+
+void JsonWriter::Number(const char *key, double v)
+{
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + NumberText(v);
 }
 void JsonWriter::Integer(const char *key, long long v)
 {
@@ -95,6 +101,28 @@ void JsonWriter::StringArray(const char *key, const std::vector<std::string> &v)
 {
   std::string list;
   for (const std::string &s : v) list += (list.empty() ? "" : ", ") + Quote(s);
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": [" + list + "]";
+}
+void JsonWriter::Bool(const char *key, bool v)
+{
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": " + (v ? "true" : "false");
+}
+void JsonWriter::NumberArray(const char *key, const std::vector<double> &v)
+{
+  std::string list;
+  for (double x : v) list += (list.empty() ? "" : ", ") + NumberText(x);
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": [" + list + "]";
+}
+void JsonWriter::IntegerArray(const char *key, const std::vector<long long> &v)
+{
+  std::string list;
+  for (long long x : v) list += (list.empty() ? "" : ", ") + std::to_string(x);
+  body += (body.empty() ? "" : ",\n") + Quote(key) + ": [" + list + "]";
+}
+void JsonWriter::BoolArray(const char *key, const std::vector<bool> &v)
+{
+  std::string list;
+  for (bool x : v) list += (list.empty() ? "" : ", ") + std::string(x ? "true" : "false");
   body += (body.empty() ? "" : ",\n") + Quote(key) + ": [" + list + "]";
 }
 std::string JsonWriter::Text() const

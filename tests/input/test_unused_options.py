@@ -1,7 +1,7 @@
-"""Options without effect are listed at the end of a run, one warning line each, and in summary.json
-("unused_options"): a misspelled option, 3D options in a 2D run, -average_start at or after -t_final, a gas option
-in a run without gas. A normal run, PETSc's own options that it reads in PetscFinalize (-options_left) and -help
-give no such warning."""
+"""Options without effect are listed in a warning line each, and in summary.json ("unused_options"): at the end of a
+run a misspelled option, 3D options in a 2D run, a gas option in a run without gas; at start-up, with the scene
+model's warnings, -average_start at or after -t_final (printed once). A normal run, PETSc's own options that it reads
+in PetscFinalize (-options_left) and -help give no such warning."""
 import os
 import sys
 
