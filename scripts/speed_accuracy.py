@@ -1,0 +1,229 @@
+#!/usr/bin/env python3
+"""Speed against accuracy: error against cost for each knob on reference problems with a known answer.
+
+Problems (each point is one fluidbed run, resumable and parallel like the stability map: scripts/fbstudy.py):
+  bounce     a 1.2 mm sphere dropped 10 mm onto the floor, e = 0.7: the fifth apex against the analytic linear
+             spring-dashpot (tests/dem/analytic.py); knobs -dem_dt_factor and -dem_kn (the soft-spring trade);
+  head_on    two spheres colliding at 1 m/s, e = 0.9: the measured restitution against e; knob -dem_dt_factor;
+  packed     the small bed (examples/coupling/small_bed.opts) below U_mf at 0.15 m/s: the pressure drop against Ergun
+             for the measured voidage, layer by layer; knobs -dem_dt_factor, -couple_substeps, -fluid_p_ksp_rtol,
+             -fluid_pc_reuse;
+  muller     the Muller bubbling bed at 0.6 m/s (examples/muller_bed_u060.opts, from its own settled start): the
+             time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor,
+             -couple_substeps and the averaging window (--long: minutes per point).
+Cost: wall seconds per simulated second per core (summary.json). Each problem's Pareto front (no other point both
+cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
+
+example:
+  scripts/speed_accuracy.py --jobs 2                      # bounce, head_on, packed
+  scripts/speed_accuracy.py --problems muller --jobs 2    # the long problem
+  scripts/speed_accuracy.py --ci --out build/sa_ci        # the three-point bounce test
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests", "dem"))
+import analytic  # noqa: E402
+import fbstudy  # noqa: E402
+import umf_sweep  # noqa: E402  (Ergun, the small bed's geometry and pressure probes)
+
+ROOT = fbstudy.ROOT
+EX = os.path.join(ROOT, "examples")
+D, RHO = 1.2e-3, 1000.0  # the bounce and head-on particles (seed Table 2.1)
+M = RHO * math.pi / 6 * D ** 3
+
+
+def read_table(path):
+    return np.genfromtxt(path, delimiter=",", names=True)
+
+
+# Each problem: the options of a point (knob -> value over the problem's defaults), the error of a finished run
+# (relative, against the known answer), and the knobs swept (each with the others at the defaults).
+def bounce_options(k):
+    return ["-options_file", os.path.join(EX, "dem", "bounce_e090.opts"), "-dem_e", 0.7, "-dem_dt_factor", k["dt_factor"], "-dem_kn", k["kn"],
+            "-t_final", 0.4, "-monitor_track_every", 1, "-insert_positions", "0.005,%.12g,0.005" % (0.01 + D / 2)]
+
+
+def bounce_error(out, k):
+    tr = read_table(os.path.join(out, "track.csv"))
+    gap, vy = tr["y"] - D / 2, tr["vy"]
+    apex = gap[1:][(vy[:-1] > 0) & (vy[1:] <= 0)]
+    ref = analytic.bounce_apexes(0.01, 5, k["kn"], 0.7, M, 9.81)
+    if len(apex) < 5:
+        return float("nan"), 0.0
+    return abs(apex[4] / ref[4] - 1), 0.0
+
+
+def head_on_options(k):
+    return ["-options_file", os.path.join(EX, "dem", "head_on.opts"), "-dem_e", 0.9, "-dem_dt_factor", k["dt_factor"], "-dem_kn", k["kn"]]
+
+
+def head_on_error(out, k):
+    tr = read_table(os.path.join(out, "track.csv"))
+    a, b = tr["id"] == 0, tr["id"] == 1
+    v0, v1 = tr["vx"][a], tr["vx"][b]
+    return abs((v1[-1] - v0[-1]) / (v0[0] - v1[0]) / 0.9 - 1), 0.0
+
+
+def packed_options(k):
+    return ["-options_file", os.path.join(EX, "coupling", "small_bed.opts"), "-t_final", 0.25, "-dem_dt_factor", k["dt_factor"],
+            "-couple_substeps", k["substeps"], "-fluid_p_ksp_rtol", k["rtol"], "-fluid_pc_reuse", k["pc_reuse"], "-output_particles", 1]
+
+
+def packed_error(out, k):
+    mon = read_table(os.path.join(out, "monitor.csv"))
+    p = read_table(os.path.join(out, "particles.csv"))
+    h = umf_sweep.LAYER
+    vp = math.pi / 6 * umf_sweep.D ** 3
+    area = umf_sweep.LX * umf_sweep.LZ
+    # between the probes at the centres of layers 1 and 5 (as tests/coupling/test_small_bed.py)
+    dp = mon["p_y5mm_avg"][-1] - mon["p_y18_33mm_avg"][-1] - umf_sweep.RHO_G * umf_sweep.G * 4 * h
+    ergun = 0.0
+    for j, weight in ((1, 0.5), (2, 1), (3, 1), (4, 1), (5, 0.5)):
+        n = np.sum((p["y"] >= j * h) & (p["y"] < (j + 1) * h))
+        ergun += weight * h * umf_sweep.ergun_gradient(1 - n * vp / (area * h), 0.15)
+    return abs(dp / ergun - 1), 0.0
+
+
+def muller_options(k):
+    return ["-options_file", os.path.join(EX, "muller_bed_u060.opts"), "-t_final", k["window"] + 1.0, "-dem_dt_factor", k["dt_factor"],
+            "-couple_substeps", k["substeps"], "-average_start", 1.0, "-output_particles", 0, "-checkpoint_interval", 0, "-output_interval", 0]
+
+
+def muller_error(out, k):
+    s = fbstudy_summary(out)
+    n = s["particles_inserted"]
+    weight = n * math.pi / 6 * 1.2e-3 ** 3 * (1000.0 - 1.205) * 9.81 / (0.044 * 0.01)
+    dp = s["averages"]["pressure_drop_mean_Pa"]
+    # the statistical uncertainty of a time average: the monitor's pressure-drop series in blocks of 0.1 s
+    return abs(dp / weight - 1), float("nan")
+
+
+def fbstudy_summary(out):
+    import json
+    return json.load(open(os.path.join(out, "summary.json")))
+
+
+PROBLEMS = {
+    "bounce": {"options": bounce_options, "error": bounce_error, "defaults": {"dt_factor": 0.1, "kn": 800},
+               "knobs": {"dt_factor": [0.5, 0.3, 0.2, 0.1, 0.05, 0.02], "kn": [800, 400, 200, 100, 50]}},
+    "head_on": {"options": head_on_options, "error": head_on_error, "defaults": {"dt_factor": 0.1, "kn": 800},
+                "knobs": {"dt_factor": [0.5, 0.3, 0.2, 0.1, 0.05, 0.02]}},
+    "packed": {"options": packed_options, "error": packed_error, "defaults": {"dt_factor": 0.1, "substeps": 1, "rtol": 1e-8, "pc_reuse": 10},
+               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 5, 10], "rtol": [1e-4, 1e-6, 1e-8, 1e-10], "pc_reuse": [1, 10, 100]}},
+    "muller": {"options": muller_options, "error": muller_error, "defaults": {"dt_factor": 0.1, "substeps": 1, "window": 2.0},
+               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4], "window": [0.5, 1.0, 2.0, 4.0]}},
+}
+
+
+def points(problems, ci):
+    pts = []
+    for name in problems:
+        pr = PROBLEMS[name]
+        if ci:
+            return [(name, "dt_factor", dict(pr["defaults"], dt_factor=f)) for f in (0.2, 0.1, 0.05)]
+        seen = set()
+        for knob, values in pr["knobs"].items():
+            for v in values:
+                k = dict(pr["defaults"], **{knob: v})
+                key = tuple(sorted(k.items()))
+                if key not in seen:  # the defaults appear in every knob's sweep: run them once
+                    seen.add(key)
+                    pts.append((name, knob, k))
+    return pts
+
+
+def point_id(name, k):
+    return name + "_" + "_".join("%s%g" % (a, b) for a, b in sorted(k.items()))
+
+
+def pareto(rows):
+    """Marks the rows no other row beats in both cost and error."""
+    for r in rows:
+        r["pareto"] = not any(o is not r and o["cost"] <= r["cost"] and o["error"] <= r["error"] and (o["cost"] < r["cost"] or o["error"] < r["error"])
+                              for o in rows if o["problem"] == r["problem"] and o["error"] == o["error"])
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    probs = sorted({r["problem"] for r in rows})
+    fig, axes = plt.subplots(1, len(probs), figsize=(5 * len(probs), 4.5), squeeze=False)
+    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window"], "osD^vP"))
+    for ax, name in zip(axes[0], probs):
+        rs = [r for r in rows if r["problem"] == name and r["error"] == r["error"]]
+        for knob in sorted({r["knob"] for r in rs}):
+            pts = [r for r in rs if r["knob"] == knob]
+            ax.scatter([r["cost"] for r in pts], [max(r["error"], 1e-7) for r in pts], marker=markers.get(knob, "o"), label=knob, alpha=0.8)
+            for r in pts:
+                ax.annotate("%g" % r[knob], (r["cost"], max(r["error"], 1e-7)), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        front = sorted((r for r in rs if r["pareto"]), key=lambda r: r["cost"])
+        ax.plot([r["cost"] for r in front], [max(r["error"], 1e-7) for r in front], "k--", lw=1, label="Pareto front")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("cost: wall s per simulated s per core")
+        ax.set_ylabel("relative error")
+        ax.set_title(name)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--problems", default="bounce,head_on,packed", help="comma-separated: " + ", ".join(PROBLEMS))
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "speed_accuracy"), help="working directory (kept: the study resumes)")
+    ap.add_argument("--csv", default=os.path.join(ROOT, "docs", "speed_accuracy", "speed_accuracy.csv"))
+    ap.add_argument("--png", default=os.path.join(ROOT, "docs", "figures", "speed_accuracy.png"))
+    ap.add_argument("--ranks", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--ci", action="store_true", help="the bounce at three time steps")
+    args = ap.parse_args()
+    problems = ["bounce"] if args.ci else args.problems.split(",")
+    os.makedirs(args.out, exist_ok=True)
+
+    def work(pt):
+        name, knob, k = pt
+        out = os.path.join(args.out, point_id(name, k))
+        s, status, wall, reused = fbstudy.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe)
+        row = {"problem": name, "knob": knob, "id": point_id(name, k), "status": s["status"] if s else "failed", "exit_status": status}
+        row.update(k)
+        if s and s["status"] != "stopped" and s["time"] > 0:
+            row["error"], row["uncertainty"] = PROBLEMS[name]["error"](out, k)
+            row["cost"] = s["wall_time_run"] * s["ranks"] / s["time"]
+            row["steps"] = s["steps"]
+        else:
+            row["error"], row["uncertainty"], row["cost"] = float("nan"), float("nan"), float("nan")
+        return row, reused
+
+    rows = []
+    for pt, (row, reused) in fbstudy.run_all(points(problems, args.ci), args.jobs, work):
+        rows.append(row)
+        fbstudy.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
+    pareto(rows)
+    rows.sort(key=lambda r: (r["problem"], r["knob"], r["id"]))
+    keys = ["problem", "knob", "id", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",
+            "cost", "steps", "pareto"]
+    os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
+    with open(args.csv, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("%.4g" % r[k] if isinstance(r.get(k), float) else r.get(k, "")) for k in keys})
+    if not args.ci:
+        os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
+        plot(rows, args.png)
+    fbstudy.log("speed-accuracy: %d points; table %s" % (len(rows), args.csv))
+
+
+if __name__ == "__main__":
+    main()
