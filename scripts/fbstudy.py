@@ -60,11 +60,18 @@ def finished_run(outdir, tail):
     try:
         with open(os.path.join(outdir, "command.json")) as f:
             meta = json.load(f)
-        if meta["args"] != tail or meta["exit_status"] < 0:
+        # the options make the point; the executable that ran it (a copy kept aside while the sources change) is recorded
+        if meta["args"][1:] != tail[1:] or meta["exit_status"] < 0:
             return False
         return meta["exit_status"] == 2 or os.path.isfile(os.path.join(outdir, "summary.json"))
     except (OSError, ValueError, KeyError):
         return False
+
+
+def summary(outdir):
+    """A run's summary.json."""
+    with open(os.path.join(outdir, "summary.json")) as f:
+        return json.load(f)
 
 
 def run_all(points, jobs, worker):

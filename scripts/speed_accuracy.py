@@ -98,17 +98,16 @@ def muller_options(k):
 
 
 def muller_error(out, k):
-    s = fbstudy_summary(out)
-    n = s["particles_inserted"]
-    weight = n * math.pi / 6 * 1.2e-3 ** 3 * (1000.0 - 1.205) * 9.81 / (0.044 * 0.01)
+    """The time-averaged pressure drop (summary.json averages, from the distributor) against the buoyant bed weight per
+    area, and its uncertainty: the standard error of the probes' pressure difference over the window by batch means (10
+    batches, each longer than the bubble period)."""
+    s = fbstudy.summary(out)
+    weight = s["particles_inserted"] * math.pi / 6 * 1.2e-3 ** 3 * (1000.0 - 1.205) * 9.81 / (0.044 * 0.01)
     dp = s["averages"]["pressure_drop_mean_Pa"]
-    # the statistical uncertainty of a time average: the monitor's pressure-drop series in blocks of 0.1 s
-    return abs(dp / weight - 1), float("nan")
-
-
-def fbstudy_summary(out):
-    import json
-    return json.load(open(os.path.join(out, "summary.json")))
+    mon = read_table(os.path.join(out, "monitor.csv"))
+    series = (mon["p_y2_5mm_avg"] - mon["p_y157_5mm_avg"])[mon["time"] >= 1.0]
+    batches = np.array([b.mean() for b in np.array_split(series, 10)])
+    return abs(dp / weight - 1), float(batches.std(ddof=1) / math.sqrt(len(batches)) / weight)
 
 
 PROBLEMS = {
