@@ -24,12 +24,13 @@ def command(args, outdir, ranks=1, exe=EXE):
     return cmd
 
 
-def run(args, outdir, ranks=1, exe=EXE, timeout=None):
-    """Runs one point unless it is finished; returns (summary dict or None, exit status, wall seconds, reused).
-    A run refused at start-up (exit 2) or failed without a summary returns None and its status."""
+def run(args, outdir, ranks=1, exe=EXE, timeout=None, fresh=False):
+    """Runs one point unless it is finished (or fresh: always, e.g. to measure its cost again on a quiet machine);
+    returns (summary dict or None, exit status, wall seconds, reused). A run refused at start-up (exit 2) or failed
+    without a summary returns None and its status."""
     cmd = command(args, outdir, ranks, exe)
     tail = cmd[cmd.index(exe):]
-    if finished_run(outdir, tail):
+    if not fresh and finished_run(outdir, tail):
         with open(os.path.join(outdir, "command.json")) as f:
             meta = json.load(f)
         path = os.path.join(outdir, "summary.json")

@@ -185,6 +185,7 @@ def main():
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--ci", action="store_true", help="the bounce at three time steps")
     args = ap.parse_args()
     problems = ["bounce"] if args.ci else args.problems.split(",")
@@ -193,7 +194,7 @@ def main():
     def work(pt):
         name, knob, k = pt
         out = os.path.join(args.out, point_id(name, k))
-        s, status, wall, reused = fbstudy.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe)
+        s, status, wall, reused = fbstudy.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe, fresh=args.fresh)
         row = {"problem": name, "knob": knob, "id": point_id(name, k), "status": s["status"] if s else "failed", "exit_status": status}
         row.update(k)
         if s and s["status"] != "stopped" and s["time"] > 0:

@@ -286,6 +286,7 @@ def main():
     ap.add_argument("--closed-time", type=float, default=0.01, help="bed time of the closed-box points (s)")
     ap.add_argument("--t3d", type=float, default=0.03, help="bed time of the 3D points (s)")
     ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--ci", action="store_true", help="two points per method from a lattice (no settling), a short window")
     args = ap.parse_args()
     maps = args.maps.split(",")
@@ -296,7 +297,7 @@ def main():
 
     def work(p):
         outdir = os.path.join(args.out, point_id(p))
-        s, status, wall, reused = fbstudy.run(options(p, args, settled), outdir, args.ranks, args.exe)
+        s, status, wall, reused = fbstudy.run(options(p, args, settled), outdir, args.ranks, args.exe, fresh=args.fresh)
         return measure(p, s, status, wall, outdir, args), reused
 
     pts = points(maps, args.ci)
