@@ -206,7 +206,9 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
       g.v[i].z = 0.0;
       g.w[i].x = g.w[i].y = 0.0;
     }
-    const PetscReal r = 0.49 * g.d[i]; // a resting contact overlaps a wall slightly: allow 1% of d
+    // a resting contact overlaps a wall: a settled bed's floor particles (a -insert_file from a settling run) overlap it by
+    // up to 1.2% of d in the 2D 750 um bed; allow 5%
+    const PetscReal r = 0.45 * g.d[i];
     PetscCheck(g.d[i] > 0.0 && g.d[i] <= props.d_max * (1 + 1e-12), comm, PETSC_ERR_ARG_OUTOFRANGE,
                "particle %lld has diameter %.6g m outside (0, %.6g] (set -particle_diameter_max for larger particles)", (long long)g.id[i],
                (double)g.d[i], (double)props.d_max);
@@ -216,7 +218,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
       PetscCheck(c[a] - (wall_lo ? r : 0.0) >= dom.lo[a] && c[a] + (wall_hi ? r : 0.0) <= dom.hi[a] && c[a] < dom.hi[a], comm,
                  PETSC_ERR_ARG_OUTOFRANGE,
                  "particle %lld at (%.6g, %.6g, %.6g) m with diameter %.6g m lies outside the box [%.6g, %.6g] along axis %d or overlaps "
-                 "its wall by more than 1%% of d",
+                 "its wall by more than 5%% of d",
                  (long long)g.id[i], (double)c[0], (double)c[1], (double)c[2], (double)g.d[i], (double)dom.lo[a], (double)dom.hi[a], a);
     }
     solid += PETSC_PI / 6.0 * g.d[i] * g.d[i] * g.d[i];
