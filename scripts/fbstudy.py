@@ -24,6 +24,12 @@ def command(args, outdir, ranks=1, exe=EXE):
     return cmd
 
 
+def done(args, outdir, ranks=1, exe=EXE):
+    """Whether the point's run is finished in outdir (without running it)."""
+    cmd = command(args, outdir, ranks, exe)
+    return finished_run(outdir, cmd[cmd.index(exe):])
+
+
 def run(args, outdir, ranks=1, exe=EXE, timeout=None, fresh=False):
     """Runs one point unless it is finished (or fresh: always, e.g. to measure its cost again on a quiet machine);
     returns (summary dict or None, exit status, wall seconds, reused). A run refused at start-up (exit 2) or failed
