@@ -226,8 +226,8 @@ def settle(args):
                 r[iwz] = repr(-float(r[iwz]))
                 w.writerow(r)
     fbstudy.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
-    path3d = None
-    if "3d" in args.maps.split(","):
+    path3d = args.bed3d
+    if "3d" in args.maps.split(",") and not path3d:
         path3d = os.path.join(args.out, "settled3d", "particles.csv")
         s3, status, _, _ = fbstudy.run(["-options_file", BED3D, "-output_particles", "1"], os.path.dirname(path3d), max(args.ranks, 2), args.exe)
         if status != 0:
@@ -287,6 +287,7 @@ def main():
     ap.add_argument("--settle", type=float, default=0.25, help="settling time of the shared initial bed (s)")
     ap.add_argument("--closed-time", type=float, default=0.01, help="bed time of the closed-box points (s)")
     ap.add_argument("--t3d", type=float, default=0.03, help="bed time of the 3D points (s)")
+    ap.add_argument("--bed3d", default=None, help="a settled 3D bed (particles.csv of examples/dem/bed750.opts) instead of settling one")
     ap.add_argument("--exe", default=fbstudy.EXE)
     ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--report", action="store_true", help="only tabulate and draw the points already finished (run nothing)")
