@@ -75,7 +75,11 @@ PetscErrorCode CouplingReadHDF5(Coupling *coupling, PetscViewer viewer);
 PetscErrorCode CouplingDestroy(Coupling **coupling);
 
 // Drag laws by name (-drag_model): K = beta / (1 - eps), N s / m^4 (kernels/drag_*.hpp).
-typedef double (*DragLaw)(const kernels::DragInput &);
+// A law as its pair (kernels/drag_common.hpp): the terms of a cell's void fraction, then K of a particle in it.
+struct DragLaw {
+  kernels::DragCellTerms (*cell)(double eps)                                     = nullptr;
+  double (*k)(const kernels::DragCellTerms &terms, const kernels::DragInput &in) = nullptr;
+};
 PetscErrorCode           DragLawGet(const char *name, DragLaw *law);
 extern const char *const DragLawNames; // "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice"
 

@@ -38,18 +38,19 @@ struct Coupling {
   PetscReal     eps_min       = 0.05;
   PetscBool     divide_eps    = PETSC_TRUE; // Model B drag = Model A drag / eps
   char          drag_name[64] = "ergun_wenyu";
-  DragLaw       drag          = nullptr;
+  DragLaw       drag;
   PetscReal     rho_g = 1.205, mu_g = 1.8e-5;
 
-  DM                      da      = nullptr;
-  Vec                     deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
-  PetscInt                until_gas = 1;           // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
-  std::vector<PetscInt64> order_cell;              // per particle: its coupling cell (flat index) at the last deposit
-  std::vector<PetscInt>   order;                   // the particles by cell, then id: the summation order of the deposits
-  std::vector<PetscInt>   by_id;                   // the particles by id (valid while the swarm's storage order is unchanged)
-  std::vector<PetscInt>   order_local, cell_start; // DepositOrder's scratch: cells in the ghosted block, counts
-  std::vector<PetscReal>  volume;                  // per particle (storage order): its volume at the last deposit
-  CouplingStats           stats;
+  DM                                  da      = nullptr;
+  Vec                                 deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
+  PetscInt                            until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
+  std::vector<PetscInt64>             order_cell;    // per particle: its coupling cell (flat index) at the last deposit
+  std::vector<PetscInt>               order;         // the particles by cell, then id: the summation order of the deposits
+  std::vector<PetscInt>               by_id;         // the particles by id (valid while the swarm's storage order is unchanged)
+  std::vector<PetscInt>               order_local, cell_start; // per particle: its cell's offset in the ghosted block; cells' ends in order
+  std::vector<kernels::DragCellTerms> cell_terms;              // the drag law's terms of each ghosted cell's void fraction
+  std::vector<PetscReal>              volume;                  // per particle (storage order): its volume at the last deposit
+  CouplingStats                       stats;
 };
 
 namespace {
@@ -176,11 +177,7 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(c->deposit_loc));
   PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-  for (PetscInt p : c->order) {
-    PetscInt cell[3];
-    CellIjk(c, c->order_cell[p], cell);
-    dep(cell[0], cell[1], cell[2], 0) += c->volume[p];
-  }
+  for (PetscInt p : c->order) dep.a[c->order_local[(std::size_t)p] * dep.dof] += c->volume[p]; // ghosted block offsets
   PetscCall(ViewRestore(c->deposit_loc, &dep));
   PetscCall(VecZeroEntries(c->deposit));
   PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
@@ -260,27 +257,35 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
     PetscCall(VecZeroEntries(c->deposit_loc));
     PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
     PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
+    // The cells' offsets in the ghosted block (DepositOrder: order_local) address the gas and deposit arrays directly,
+    // which share that block. The law's void-fraction terms once per cell that holds particles (cell_start holds the
+    // cells' ends in the deposit order).
+    const PetscInt     dof = gas.dof, *local = c->order_local.data();
+    const PetscScalar *g  = gas.a;
+    PetscScalar       *dp = dep.a;
+    c->cell_terms.resize(c->cell_start.size());
+    for (std::size_t q = 0; q + 1 < c->cell_start.size(); ++q)
+      if (c->cell_start[q] > (q ? c->cell_start[q - 1] : 0)) c->cell_terms[q] = c->drag.cell(g[(PetscInt)q * dof]);
     // each particle's linearised drag, in storage order (the particles' data are read in the order they are stored)
     for (PetscInt p = 0; p < n; ++p) {
-      const ContactBody &bp = bodies[p];
-      PetscInt           cell[3];
-      CellIjk(c, c->order_cell[p], cell);
-      const PetscReal eps = gas(cell[0], cell[1], cell[2], 0);
-      Vec3            u;
-      for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gas(cell[0], cell[1], cell[2], 2 + d);
+      const ContactBody &bp  = bodies[p];
+      const PetscScalar *gc  = g + local[p] * dof;
+      const PetscReal    eps = gc[0];
+      Vec3               u;
+      for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gc[2 + d];
       // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
       const PetscReal K =
-        c->drag(kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) / (c->divide_eps ? eps : 1.0);
+        c->drag.k(c->cell_terms[(std::size_t)local[p]], kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) /
+        (c->divide_eps ? eps : 1.0);
       a[p]     = c->volume[p] * K;
       cells[p] = c->order_cell[p];
       for (PetscInt d = 0; d < 3; ++d) b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;
     }
     // their sums per cell (eq. 2.21, 5.1), in the deposit order
     for (PetscInt p : c->order) {
-      PetscInt cell[3];
-      CellIjk(c, c->order_cell[p], cell);
-      dep(cell[0], cell[1], cell[2], 1) += a[p];
-      for (PetscInt d = 0; d < c->dim; ++d) dep(cell[0], cell[1], cell[2], 2 + d) += b[3 * p + d];
+      PetscScalar *dc = dp + local[p] * dof;
+      dc[1] += a[p];
+      for (PetscInt d = 0; d < c->dim; ++d) dc[2 + d] += b[3 * p + d];
     }
     PetscCall(ViewRestore(c->gas_loc, &gas));
     PetscCall(ViewRestore(c->deposit_loc, &dep));

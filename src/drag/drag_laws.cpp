@@ -8,21 +8,33 @@ namespace fluidbed {
 const char *const DragLawNames = "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice";
 
 namespace {
+
 PetscFunctionList drag_laws = NULL;
+
+// Each law registered as a function that returns its pair (PetscFunctionList holds plain function pointers).
+#define FLUIDBED_DRAG_LAW(law)                                                                                                             \
+  []() -> DragLaw {                                                                                                                        \
+    return {kernels::law##_cell, static_cast<double (*)(const kernels::DragCellTerms &, const kernels::DragInput &)>(kernels::law##_k)};   \
+  }
 
 PetscErrorCode RegisterDragLaws()
 {
+  using Maker = DragLaw (*)();
+
   PetscFunctionBeginUser;
   if (drag_laws) PetscFunctionReturn(0);
   // the seed's law: Ergun and Wen-Yu blended around eps = 0.8 (eq. 2.11-2.14)
-  PetscCall(PetscFunctionListAdd(&drag_laws, "ergun_wenyu", kernels::huilin_gidaspow_k));
-  PetscCall(PetscFunctionListAdd(&drag_laws, "gidaspow", kernels::gidaspow_k));
-  PetscCall(PetscFunctionListAdd(&drag_laws, "wen_yu", kernels::wen_yu_k));
-  PetscCall(PetscFunctionListAdd(&drag_laws, "ergun", kernels::ergun_k));
-  PetscCall(PetscFunctionListAdd(&drag_laws, "di_felice", kernels::di_felice_k));
+  PetscCall(PetscFunctionListAdd(&drag_laws, "ergun_wenyu", (Maker)FLUIDBED_DRAG_LAW(huilin_gidaspow)));
+  PetscCall(PetscFunctionListAdd(&drag_laws, "gidaspow", (Maker)FLUIDBED_DRAG_LAW(gidaspow)));
+  PetscCall(PetscFunctionListAdd(&drag_laws, "wen_yu", (Maker)FLUIDBED_DRAG_LAW(wen_yu)));
+  PetscCall(PetscFunctionListAdd(&drag_laws, "ergun", (Maker)FLUIDBED_DRAG_LAW(ergun)));
+  PetscCall(PetscFunctionListAdd(&drag_laws, "di_felice", (Maker)FLUIDBED_DRAG_LAW(di_felice)));
   PetscCall(PetscRegisterFinalize([]() -> PetscErrorCode { return PetscFunctionListDestroy(&drag_laws); }));
   PetscFunctionReturn(0);
 }
+
+#undef FLUIDBED_DRAG_LAW
+
 } // namespace
 
 PetscErrorCode DragLawGet(const char *name, DragLaw *law)
@@ -33,7 +45,7 @@ PetscErrorCode DragLawGet(const char *name, DragLaw *law)
   PetscCall(RegisterDragLaws());
   PetscCall(PetscFunctionListFind(drag_laws, name, &fn));
   PetscCheck(fn, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-drag_model %s is unknown: choose one of %s", name, DragLawNames);
-  *law = (DragLaw)fn;
+  *law = ((DragLaw(*)())fn)();
   PetscFunctionReturn(0);
 }
 

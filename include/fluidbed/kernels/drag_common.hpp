@@ -19,6 +19,14 @@ struct DragInput {
   double slip  = 0.0; // |u - v_p|, m/s
 };
 
+// What a law computes from the void fraction alone: a coupling cell computes it once for all its particles (the
+// powers of eps and the Ergun/Wen-Yu blend cost more than the rest of a law). Each law is a pair xxx_cell(eps),
+// xxx_k(cell terms, input); its one-argument xxx_k(input) is their composition, the same value bit for bit.
+struct DragCellTerms {
+  double blend      = 0.0; // the Ergun/Wen-Yu blend phi(eps), eq. 2.13 (laws that blend)
+  double wen_yu_pow = 0.0; // eps^-2.65, eq. 2.12 (laws with a Wen-Yu branch)
+};
+
 // Particle Reynolds number, eq. 2.17: Re_p = eps d |u - v| rho_g / mu_g.
 inline double particle_reynolds(const DragInput &in)
 {

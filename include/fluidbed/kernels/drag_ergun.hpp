@@ -11,5 +11,13 @@ inline double ergun_k(const DragInput &in)
 {
   return 150.0 * (1.0 - in.eps) * in.mu_g / (in.eps * in.d * in.d) + 1.75 * in.rho_g * in.slip / in.d;
 }
+inline DragCellTerms ergun_cell(double)
+{
+  return {};
+}
+inline double ergun_k(const DragCellTerms &, const DragInput &in)
+{
+  return ergun_k(in);
+}
 
 } // namespace fluidbed::kernels

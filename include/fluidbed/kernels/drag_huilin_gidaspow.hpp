@@ -16,16 +16,33 @@ inline double ergun_wen_yu_blend(double eps)
 }
 
 // The seed's drag, eq. 2.14: K = (1 - phi) K_Ergun + phi K_WenYu.
+inline DragCellTerms huilin_gidaspow_cell(double eps)
+{
+  DragCellTerms t = wen_yu_cell(eps);
+  t.blend         = ergun_wen_yu_blend(eps);
+  return t;
+}
+inline double huilin_gidaspow_k(const DragCellTerms &t, const DragInput &in)
+{
+  return (1.0 - t.blend) * ergun_k(in) + t.blend * wen_yu_k(t, in);
+}
 inline double huilin_gidaspow_k(const DragInput &in)
 {
-  const double phi = ergun_wen_yu_blend(in.eps);
-  return (1.0 - phi) * ergun_k(in) + phi * wen_yu_k(in);
+  return huilin_gidaspow_k(huilin_gidaspow_cell(in.eps), in);
 }
 
 // Gidaspow (1994): Ergun below eps = 0.8, Wen-Yu above, without smoothing.
+inline DragCellTerms gidaspow_cell(double eps)
+{
+  return wen_yu_cell(eps);
+}
+inline double gidaspow_k(const DragCellTerms &t, const DragInput &in)
+{
+  return in.eps < 0.8 ? ergun_k(in) : wen_yu_k(t, in);
+}
 inline double gidaspow_k(const DragInput &in)
 {
-  return in.eps < 0.8 ? ergun_k(in) : wen_yu_k(in);
+  return gidaspow_k(gidaspow_cell(in.eps), in);
 }
 
 } // namespace fluidbed::kernels

@@ -17,9 +17,19 @@ inline double cd_times_re(double re)
 // Wen & Yu (1966), eq. 2.12 divided by (1 - eps): K = 3/4 C_D eps rho |u - v| eps^-2.65 / d
 //                                                  = 3/4 (C_D Re) mu eps^-2.65 / d^2   (using Re = eps d |u-v| rho / mu).
 // At eps = 1 and Re -> 0 it is Stokes drag, V_p K = 3 pi mu d.
+inline DragCellTerms wen_yu_cell(double eps)
+{
+  DragCellTerms t;
+  t.wen_yu_pow = std::pow(eps, -2.65);
+  return t;
+}
+inline double wen_yu_k(const DragCellTerms &t, const DragInput &in)
+{
+  return 0.75 * cd_times_re(particle_reynolds(in)) * in.mu_g * t.wen_yu_pow / (in.d * in.d);
+}
 inline double wen_yu_k(const DragInput &in)
 {
-  return 0.75 * cd_times_re(particle_reynolds(in)) * in.mu_g * std::pow(in.eps, -2.65) / (in.d * in.d);
+  return wen_yu_k(wen_yu_cell(in.eps), in);
 }
 
 } // namespace fluidbed::kernels
