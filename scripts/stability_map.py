@@ -73,6 +73,9 @@ def slit(nx, jet):
 
 
 def point_id(p):
+    """The point's run directory: points of two maps with the same options share one run."""
+    if p["map"] == "jet_sub" and all(p[k] == REFERENCE[k] for k in ("method", "cell_d", "dt_factor", "jet", "substeps")):
+        return point_id(REFERENCE)
     if p["map"] == "closed":
         return "closed_dt%g" % p["dt_factor"]
     if p["map"] == "3d":
@@ -310,13 +313,13 @@ def main():
     results = {}
     ref_point = [p for p in pts if point_id(p) == point_id(REFERENCE)] or ([] if args.ci else [REFERENCE])
     if ref_point and not args.ci and (not args.report or ref_point[0] in pts):  # the reference first: the others are judged against it
-        results[point_id(REFERENCE)] = work(REFERENCE)[0]
-    for p, (m, reused) in fbstudy.run_all([p for p in pts if point_id(p) not in results], args.jobs, work):
-        results[m["id"]] = m
+        results[("cell_dt", point_id(REFERENCE))] = work(REFERENCE)[0]
+    for p, (m, reused) in fbstudy.run_all([p for p in pts if (p["map"], point_id(p)) not in results], args.jobs, work):
+        results[(m["map"], m["id"])] = m
         fbstudy.log("%-55s %-8s %s%s" % (m["id"], m.get("status"), m.get("guard", ""), " (reused)" if reused else " %.0f s" % m["wall_s"]))
-    ref = results.get(point_id(REFERENCE))
+    ref = results.get(("cell_dt", point_id(REFERENCE)))
     tol = dict(THRESHOLDS)
-    mirror = results.get(point_id(dict(REFERENCE, tag="_mirror")))
+    mirror = results.get(("cell_dt", point_id(dict(REFERENCE, tag="_mirror"))))
     if ref and mirror and "dp_over_weight" in mirror and "dp_over_weight" in ref:
         # the reference's own spread (the same bed mirrored) sets a floor under the relative thresholds
         for k, key in (("dp_rel", "dp_over_weight"), ("bed_height_rel", "bed_height_mm"), ("jet_rel", "jet_mm")):
