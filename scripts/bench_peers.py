@@ -389,14 +389,23 @@ def parse_peer_log(text, warmup):
     if len(loops) <= timed:
         raise RuntimeError("no 'Loop time' line of the timed run in the log")
     lp = loops[timed]
-    after = text[lp.end():]
+    after = text[lp.end():loops[timed + 1].start() if len(loops) > timed + 1 else len(text)]  # up to the dump's run 0
     nb = re.search(r"Neighbor list builds\s*=\s*(\d+)", after)
     dang = re.search(r"Dangerous builds\s*=\s*(\d+)", after)
+    cpu = re.search(r"([0-9.]+)% CPU use with", after)  # LAMMPS's share of a core during the loop
+    # the loop's time per section (average over ranks): LAMMPS's "MPI task timing breakdown" table, LIGGGHTS's
+    # "Pair  time (%) = T (P)" lines
+    sections = {}
+    for name, avg in re.findall(r"^(Pair|Neigh|Comm|Output|Modify|Other)\s*\|\s*\S*\s*\|\s*([0-9.eE+-]+)", after, re.M):
+        sections[name.lower()] = float(avg)
+    for name, tm in re.findall(r"^(Pair|Neigh|Comm|Outpt|Modfy|Other)\s+time \(%\) = ([0-9.eE+-]+)", after, re.M):
+        sections[{"outpt": "output", "modfy": "modify"}.get(name.lower(), name.lower())] = float(tm)
     before = text[loops[timed - 1].end() if timed else 0:lp.start()]
     rows = [s.split() for s in before.splitlines() if re.match(r"^\s*\d+\s+\d+\s+[-0-9.eE+]+\s+[-0-9.eE+]+\s+[-0-9.eE+]+\s*$", s)]
     last = rows[-1] if rows else None
     return {"loop_s": float(lp.group(1)), "ranks": int(lp.group(2)), "steps": int(lp.group(3)), "atoms": int(lp.group(4)),
             "rebuilds": int(nb.group(1)) if nb else None, "dangerous": int(dang.group(1)) if dang else None,
+            "loop_cpu_use": float(cpu.group(1)) / 100 if cpu else None, "sections_s": sections,
             "own_contacts_per_particle": float(last[4]) / float(last[1]) if last else None}
 
 
@@ -605,6 +614,13 @@ def report(res):
         ph = r["phases_s"]
         L.append("| %s | %d | %s | %.2f |" % (e["bed"], e["ranks"], " / ".join("%.2f" % ph.get(k, 0) for k in
                                                                            ("contact", "integrate", "ghosts", "neighbour", "migrate", "guards", "output")), r["loop_s"]))
+    L.append("")
+    L.append("| bed | ranks | LAMMPS loop (s, mean over ranks, first repetition): pair / neigh / comm / modify / output / other | LIGGGHTS: pair / neigh / comm / output / other |")
+    L.append("|---|---|---|---|")
+    for key, e in res["cases"].items():
+        sec = lambda c, names: " / ".join("%.2f" % e["runs"][0][c]["sections_s"].get(k, float("nan")) for k in names)
+        L.append("| %s | %d | %s | %s |" % (e["bed"], e["ranks"], sec("lammps", ("pair", "neigh", "comm", "modify", "output", "other")),
+                                            sec("liggghts", ("pair", "neigh", "comm", "output", "other"))))
     L.append("")
     L.append("Physics: %s" % ("all final states agree within the tolerances %s" % json.dumps(TOL) if not res["failures"] else
                               "DISAGREE: " + "; ".join(res["failures"])))
