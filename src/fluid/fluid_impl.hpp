@@ -118,14 +118,14 @@ struct Fluid {
   // -fluid_p_dump_*: the pressure systems of selected gas steps written for offline solver studies
   // (scripts/ksp_compare.py); pressure_dump.cpp. Off unless an interval or a list of steps is given.
   struct Dump {
-    PetscInt              interval = 0, start_step = 1, count = 0; // every interval-th eligible step, at most count (0: no limit)
-    PetscReal             start_time = 0;                          // s: steps ending before this are not eligible
-    std::vector<PetscInt> steps;                                   // and these gas steps (1-based), whatever the interval
-    std::string           dir;                                     // empty: <output_dir>/pressure_dump
-    PetscInt              eligible = 0, written = 0;
-    PetscBool             now = PETSC_FALSE; // this step's system is being dumped
-    Mat                   A   = nullptr;     // an AIJ copy of a structured (hypre) matrix, which has no binary viewer
-    Vec                   x0  = nullptr;     // the initial guess, kept across the solve
+    PetscInt              interval = 0, start_step = 1, count = 0;    // every interval-th eligible step, at most count (0: no limit)
+    PetscReal             start_time = 0;                             // s: steps ending before this are not eligible
+    std::vector<PetscInt> steps;                                      // and these gas steps (1-based), whatever the interval
+    std::string           dir;                                        // empty: <output_dir>/pressure_dump
+    PetscInt              eligible = 0, written = 0, by_interval = 0; // by_interval: the dumps -fluid_p_dump_count limits
+    PetscBool             now = PETSC_FALSE;                          // this step's system is being dumped
+    Mat                   A   = nullptr; // an AIJ copy of a structured (hypre) matrix, which has no binary viewer
+    Vec                   x0  = nullptr; // the initial guess, kept across the solve
   } dump;
   std::string output_dir = "output"; // the run's -output_dir (FluidSetOutputDirectory)
 

@@ -115,8 +115,11 @@ PetscErrorCode FluidDumpBeforeSolve(Fluid *f, PetscReal dt)
   d.now = PETSC_FALSE;
   if (d.interval <= 0 && d.steps.empty()) PetscFunctionReturn(0);
   // Every rank holds the same step counters and gas clock, so every rank takes the same decision.
-  if (d.interval > 0 && step >= d.start_step && f->time + dt >= d.start_time * (1 - 1e-12) && (d.count == 0 || d.written < d.count)) {
-    if (d.eligible % d.interval == 0) d.now = PETSC_TRUE;
+  if (d.interval > 0 && step >= d.start_step && f->time + dt >= d.start_time * (1 - 1e-12) && (d.count == 0 || d.by_interval < d.count)) {
+    if (d.eligible % d.interval == 0) {
+      d.now = PETSC_TRUE;
+      d.by_interval++;
+    }
     d.eligible++;
   }
   if (std::binary_search(d.steps.begin(), d.steps.end(), step)) d.now = PETSC_TRUE;
@@ -217,6 +220,11 @@ PetscErrorCode FluidDumpAfterSolve(Fluid *f, PetscReal dt, PetscBool pc_rebuilt)
   j.Bool("implicit_drag", (bool)f->has_drag);
   j.Number("drag_coefficient_max", (double)bmax);
   j.Number("dt_of_assembly", (double)f->dt_last);
+  {
+    std::vector<std::string> bc;
+    for (int face = 0; face < 2 * f->dim; ++face) bc.push_back(f->periodic[face / 2] ? "periodic" : FluidBCTypes[f->bc[face]]);
+    j.StringArray("bc", bc); // xlo, xhi, ylo, yhi[, zlo, zhi]
+  }
   j.Bool("pressure_outlet", (bool)f->has_dirichlet);
   j.Bool("constant_null_space", !f->has_dirichlet);
   j.Number("rho", (double)f->rho);
