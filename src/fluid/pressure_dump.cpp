@@ -73,7 +73,7 @@ PetscErrorCode FluidDumpSetFromOptions(Fluid *f)
 {
   Fluid::Dump &d                       = f->dump;
   char         dir[PETSC_MAX_PATH_LEN] = "";
-  PetscInt     steps[kMaxListedSteps], nsteps = kMaxListedSteps;
+  PetscInt     steps[kMaxListedSteps] = {0}, nsteps = kMaxListedSteps; // 0 in -help: none listed
   PetscBool    set_steps = PETSC_FALSE, set_dir = PETSC_FALSE;
 
   PetscFunctionBeginUser;
