@@ -129,10 +129,24 @@ def find_dumps(paths):
             files += glob.glob(os.path.join(sub if os.path.isdir(sub) else p, "pressure_step*.bin"))
         else:
             files += glob.glob(p)
-    groups = {}
+    by_dir = {}
     for f in sorted(set(os.path.abspath(f) for f in files)):
         if os.path.exists(f[:-4] + ".json"):
-            groups.setdefault(os.path.dirname(f), []).append(f)
+            by_dir.setdefault(os.path.dirname(f), []).append(f)
+    # runs of consecutive steps are the sequences a preconditioner can be kept over; a directory with several (the
+    # start of a run and a later moment) gives one group each, keyed by directory and first step
+    groups = {}
+    for d, fs in by_dir.items():
+        steps = [json.load(open(f[:-4] + ".json"))["step"] for f in fs]
+        order = np.argsort(steps)
+        run = []
+        for i in order:
+            if run and steps[i] != steps[run[-1]] + 1:
+                groups[(d, steps[run[0]])] = [fs[j] for j in run]
+                run = []
+            run.append(i)
+        if run:
+            groups[(d, steps[run[0]])] = [fs[j] for j in run]
     return groups
 
 
@@ -463,7 +477,7 @@ class Worker:
         r.destroy()
         return out
 
-    def run_sequence(self, directory, files, solvers):
+    def run_sequence(self, directory, files, solvers, tag_time=False):
         PETSc = self.PETSc
         args = self.args
         meta0 = json.load(open(files[0][:-4] + ".json"))
@@ -472,7 +486,8 @@ class Worker:
             return
         if args.steps:
             files = files[:args.steps]
-        scene = scene_name(directory)
+        scene = scene_name(directory) + ("@%.3gs" % meta0["time"] if tag_time else "")
+        directory = "%s#%d" % (directory, meta0["step"])  # one key per sequence
         layouts = {}
         need3d = any(SOLVERS[s].get("mat") == "hyprestruct" for s in solvers)
 
@@ -613,8 +628,8 @@ class Worker:
             eps.setProblemType(SLEPc.EPS.ProblemType.NHEP)
             eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
             eps.setWhichEigenpairs(which)
-            eps.setDimensions(nev=3, ncv=min(n - 2, 48))
-            eps.setTolerances(tol=1e-6, max_it=self.args.eps_max_it)
+            eps.setDimensions(nev=1, ncv=min(n - 2, 24))
+            eps.setTolerances(tol=1e-5, max_it=self.args.eps_max_it)
             if ns:
                 c = A.createVecRight()
                 c.set(1.0 / np.sqrt(n))
@@ -635,29 +650,61 @@ class Worker:
         if out.get("slepc_max") and out.get("slepc_min"):
             out["slepc_cond"] = out["slepc_max"] / out["slepc_min"]
         if n <= self.args.dense_max:
-            # the dense operator, column by column
-            cols = np.empty((n, n))
+            # every eigenvalue, from dense matrices: the preconditioner's inverse P^-1 column by column, and A. For a
+            # symmetric P^-1 the nonzero eigenvalues of P^-1 A are those of the symmetric A^1/2 P^-1 A^1/2 (AB and BA
+            # share them), which LAPACK's symmetric solver gives in a fraction of the general one's time; the null
+            # vector of A (the constant) adds one zero, dropped. A non-symmetric P^-1 takes the general solver on Q P^-1 A.
+            Pinv = np.empty((n, n))
             e = A.createVecRight()
             y = A.createVecLeft()
+            # Only Q P^-1 Q matters (the residuals KSP preconditions have no constant component, and KSP removes it
+            # from the result): the columns are P^-1 applied to Q e_j. Applied to e_j itself an AMG's coarse solve of
+            # the singular matrix meets an inconsistent right-hand side and returns a huge constant component whose
+            # round-off swamps the rest.
             for j in range(n):
-                e.set(0.0)
-                e.setValue(j, 1.0)
+                e.set(-1.0 / n if ns else 0.0)
+                e.setValue(j, 1.0 - 1.0 / n if ns else 1.0)
                 e.assemble()
-                Op().mult(None, e, y)
-                cols[:, j] = y.getArray()
-            if ns:  # restrict to the complement of the constant: Q M Q in an orthonormal basis of it
-                if getattr(self, "_basis_n", None) != n:
-                    self._basis = np.linalg.qr(np.eye(n) - 1.0 / n)[0][:, : n - 1]
-                    self._basis_n = n
-                cols = self._basis.T @ cols @ self._basis
-            lam = np.linalg.eigvals(cols)
-            out["dense_eigs"] = np.sort(lam.real).tolist()
-            out["dense_max_imag"] = float(np.abs(lam.imag).max())
-            out["dense_min"] = float(lam.real.min())
-            out["dense_max"] = float(lam.real.max())
+                pc.apply(e, y)
+                if ns:
+                    ns.remove(y)
+                Pinv[:, j] = y.getArray()
+            Ad = self.dense(A)
+            asym = np.abs(Pinv - Pinv.T).max() / np.abs(Pinv).max()
+            out["dense_pc_asymmetry"] = float(asym)
+            if asym < 1e-8:
+                w, V = np.linalg.eigh(Ad)
+                S = (V * np.sqrt(np.clip(w, 0.0, None))) @ V.T
+                Ps = 0.5 * (Pinv + Pinv.T)
+                lam = np.linalg.eigvalsh(S @ Ps @ S)
+                if ns:
+                    lam = np.sort(lam)[1:]
+                out["dense_method"] = "symmetric: eig(A^1/2 P^-1 A^1/2)"
+                out["dense_max_imag"] = 0.0
+            else:
+                Mq = Pinv @ Ad  # Q P^-1 Q A = Q P^-1 A (A Q = A)
+                lam = np.linalg.eigvals(Mq)
+                out["dense_max_imag"] = float(np.abs(lam.imag).max())
+                lam = lam.real
+                if ns:
+                    lam = np.sort(lam)
+                    lam = np.delete(lam, np.argmin(np.abs(lam)))
+                out["dense_method"] = "general: eig(Q P^-1 A)"
+            lam = np.sort(np.asarray(lam).real)
+            out["dense_eigs"] = lam.tolist()
+            out["dense_min"] = float(lam.min())
+            out["dense_max"] = float(lam.max())
             out["dense_cond"] = out["dense_max"] / out["dense_min"] if out["dense_min"] > 0 else None
         M.destroy()
         self.spectra.append(out)
+
+    def dense(self, A):
+        """A as a dense array (1 rank, small systems)."""
+        indptr, cols, vals = A.getValuesCSR()
+        n = A.getSize()[0]
+        D = np.zeros((n, n))
+        D[np.repeat(np.arange(n), np.diff(indptr)), cols] = vals
+        return D
 
     def matrix_spectrum(self, scene, sysm):
         """The matrix itself: its largest eigenvalue and the eigenvalues nearest 0 (shift-and-invert about a small
@@ -721,8 +768,11 @@ class Worker:
         if not groups:
             sys.exit("ksp_compare.py: no dumps (pressure_step*.bin with their .json) under %s" % " ".join(self.args.dumps))
         solvers = solver_names(self.args.solvers)
-        for directory, files in groups.items():
-            self.run_sequence(directory, files, solvers)
+        multi = {}
+        for d, _ in groups:
+            multi[d] = multi.get(d, 0) + 1
+        for (directory, first), files in groups.items():
+            self.run_sequence(directory, files, solvers, multi[directory] > 1)
         if self.rank == 0:
             with open(self.args.worker_out, "w") as f:
                 json.dump(dict(ranks=self.size, records=self.records, systems=self.systems, spectra=self.spectra, matrix_spectra=self.matrix_spectra,
@@ -812,7 +862,7 @@ def markdown(data, args):
         lines.append("")
         lines.append("### Spectra of the preconditioned operator (1 rank)")
         lines.append("")
-        lines.append("SLEPc: Krylov-Schur on Q P^-1 A with the constant deflated (tolerance 1e-6); dense: every eigenvalue of the dense operator "
+        lines.append("SLEPc: Krylov-Schur on Q P^-1 A with the constant deflated (tolerance 1e-5); dense: every eigenvalue of the dense operator "
                      "(small systems). cond = lambda_max / lambda_min on the complement of the null space.")
         lines.append("")
         lines.append("| scene | step | cells | PC | SLEPc min | SLEPc max | SLEPc cond | dense min | dense max | dense cond | max imag | KSP estimate |")

@@ -10,7 +10,10 @@
 #                fraction), model A and B: the 2D bed's box and the seed's 175 x 200 x 5 grid. Coupled runs are
 #                model B only (the coupling implements the seed's model B), so model A's operator comes from these.
 #   bed750       the 750 um two-grid bed (examples/twogrid_750_jet1_u301.opts) on its 175 x 200 x 5 grid from a
-#                settled bed ($FLUIDBED_SETTLED750, a particles.csv): steps 1-8 and 301-308 (the spout entering)
+#                settled bed ($FLUIDBED_SETTLED750, a particles.csv): steps 1-8 and 301-308 (the jet entering the
+#                packed bed). The full jet through the packed bed's bottom cells (45.3 m/s / eps = 105 m/s) needs a gas
+#                step of 2.3e-6 s on this grid and 1.1e-6 s on the refined one: the example's 5.84e-6 s (t_cr/10) stops
+#                on the Courant guard after 50 steps, so both run at -dem_dt_factor 0.015 (8.76e-7 s)
 #   bed750_1m    the same bed on 350 x 400 x 7 = 980,000 cells: steps 1-4 (RANKS ranks)
 # Environment: FLUIDBED_EXE (build/fluidbed), RANKS (1; the million-cell scene 2).
 set -euo pipefail
@@ -67,13 +70,13 @@ scene_frozen_a() {
 scene_bed750() {
   [[ -f $SETTLED ]] || { echo "no settled bed at $SETTLED (FLUIDBED_SETTLED750)" >&2; return 1; }
   run bed750 "${RANKS:-1}" -options_file "$ROOT/examples/twogrid_750_jet1_u301.opts" -insert_type file -insert_file "$SETTLED" \
-    -max_steps 308 -fluid_p_dump_steps 1-9,301-309
+    -dem_dt_factor 0.015 -max_steps 308 -fluid_p_dump_steps 1-9,301-309
 }
 
 scene_bed750_1m() {
   [[ -f $SETTLED ]] || { echo "no settled bed at $SETTLED (FLUIDBED_SETTLED750)" >&2; return 1; }
   run bed750_1m "${RANKS:-2}" -options_file "$ROOT/examples/twogrid_750_jet1_u301.opts" -insert_type file -insert_file "$SETTLED" \
-    -grid_nx 350 -grid_ny 400 -grid_nz 7 -pgrid_ratio 14,4,7 -max_steps 4 -fluid_p_dump_steps 1-5 -fluid_output_cells 0
+    -dem_dt_factor 0.015 -grid_nx 350 -grid_ny 400 -grid_nz 7 -pgrid_ratio 14,4,7 -max_steps 4 -fluid_p_dump_steps 1-5 -fluid_output_cells 0
 }
 
 scenes=("$@")
