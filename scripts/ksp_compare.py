@@ -768,15 +768,18 @@ class Worker:
         if not groups:
             sys.exit("ksp_compare.py: no dumps (pressure_step*.bin with their .json) under %s" % " ".join(self.args.dumps))
         solvers = solver_names(self.args.solvers)
+        # smallest systems first: their results come early in a long study
+        groups = dict(sorted(groups.items(), key=lambda kv: (json.load(open(kv[1][0][:-4] + ".json"))["cells"], kv[0])))
         multi = {}
         for d, _ in groups:
             multi[d] = multi.get(d, 0) + 1
         for (directory, first), files in groups.items():
             self.run_sequence(directory, files, solvers, multi[directory] > 1)
-        if self.rank == 0:
-            with open(self.args.worker_out, "w") as f:
-                json.dump(dict(ranks=self.size, records=self.records, systems=self.systems, spectra=self.spectra, matrix_spectra=self.matrix_spectra,
-                               histories=self.histories, notes=self.notes), f)
+            if self.rank == 0:  # after each sequence: a long study that is stopped keeps what it measured
+                with open(self.args.worker_out + ".tmp", "w") as f:
+                    json.dump(dict(ranks=self.size, records=self.records, systems=self.systems, spectra=self.spectra, matrix_spectra=self.matrix_spectra,
+                                   histories=self.histories, notes=self.notes), f)
+                os.replace(self.args.worker_out + ".tmp", self.args.worker_out)
 
 
 # ---------------------------------------------------------------------------------------------------------------------
