@@ -10,9 +10,10 @@ FLUIDBED_JOBS=${FLUIDBED_JOBS:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT npro
 FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
                    cmake make g++ pkg-config)
 # What only the tests need: ParaView's pvbatch (python3-paraview holds its Python module, a recommendation that
-# --no-install-recommends skips) in a virtual X server, for tests/io/test_paraview.py. scripts/test.sh sets
-# FLUIDBED_WITH_TEST_PACKAGES=1 before sourcing this file.
-FLUIDBED_TEST_PACKAGES=(paraview python3-paraview xvfb xauth)
+# --no-install-recommends skips) in a virtual X server, for tests/io/test_paraview.py; petsc4py and slepc4py for
+# scripts/ksp_compare.py and tests/studies/test_ksp_compare.py. scripts/test.sh sets FLUIDBED_WITH_TEST_PACKAGES=1
+# before sourcing this file.
+FLUIDBED_TEST_PACKAGES=(paraview python3-paraview xvfb xauth python3-petsc4py python3-slepc4py)
 if [[ ${FLUIDBED_WITH_TEST_PACKAGES:-0} == 1 ]]; then
   FLUIDBED_PACKAGES+=("${FLUIDBED_TEST_PACKAGES[@]}")
 fi

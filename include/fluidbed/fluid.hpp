@@ -45,6 +45,8 @@ struct FluidStats {
 
 // Reads the -fluid_*, -fluid_bc_* and -inlet_* options and creates the fields; grid is the fine fluid grid.
 PetscErrorCode FluidCreate(MPI_Comm comm, const Domain &domain, const FluidGrid &grid, PhaseLog *log, Fluid **fluid);
+// The run's -output_dir: the default parent of -fluid_p_dump_dir (the pressure systems written for solver studies).
+PetscErrorCode FluidSetOutputDirectory(Fluid *fluid, const char *dir);
 // Initial fields (frozen void fraction from the options, initial velocity), the pressure matrix and its KSP.
 PetscErrorCode FluidSetUp(Fluid *fluid);
 // Largest stable step for the current velocity and void fraction (CFL and viscous limits), s.

@@ -120,6 +120,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   }
   if (sim->run.fluid) {
     PetscCall(FluidCreate(sim->comm, sim->domain, sim->grids.fluid, &sim->log, &sim->fluid));
+    PetscCall(FluidSetOutputDirectory(sim->fluid, sim->run.output_dir));
     PetscCall(FluidSetUp(sim->fluid));
   }
   if (sim->dem && sim->fluid)

@@ -9,6 +9,7 @@
 
 #include <petscksp.h>
 
+#include <string>
 #include <vector>
 
 #include "fluidbed/fluid.hpp"
@@ -114,6 +115,20 @@ struct Fluid {
   KSP          ksp        = nullptr;
   PetscInt     assemblies = 0, since_pc = 0;
 
+  // -fluid_p_dump_*: the pressure systems of selected gas steps written for offline solver studies
+  // (scripts/ksp_compare.py); pressure_dump.cpp. Off unless an interval or a list of steps is given.
+  struct Dump {
+    PetscInt              interval = 0, start_step = 1, count = 0;    // every interval-th eligible step, at most count (0: no limit)
+    PetscReal             start_time = 0;                             // s: steps ending before this are not eligible
+    std::vector<PetscInt> steps;                                      // and these gas steps (1-based), whatever the interval
+    std::string           dir;                                        // empty: <output_dir>/pressure_dump
+    PetscInt              eligible = 0, written = 0, by_interval = 0; // by_interval: the dumps -fluid_p_dump_count limits
+    PetscBool             now = PETSC_FALSE;                          // this step's system is being dumped
+    Mat                   A   = nullptr; // an AIJ copy of a structured (hypre) matrix, which has no binary viewer
+    Vec                   x0  = nullptr; // the initial guess, kept across the solve
+  } dump;
+  std::string output_dir = "output"; // the run's -output_dir (FluidSetOutputDirectory)
+
   // Scratch arrays on the ghosted cell layout of da_u and da_s (FluidWork): the momentum predictor's face fluxes and
   // control-volume transport, the pressure matrix's face coefficients. Grows once, then is reused every step.
   std::vector<PetscReal> work;
@@ -187,6 +202,17 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt);
 PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
 PetscErrorCode FluidPressureDestroy(Fluid *f);
 PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc); // the pressure KSP and PC types
+// The face-coefficient operator of the projection for the current eps and drag, assembled into M (any DMDA matrix
+// of da_p): the matrix of the solve for the same dt (the drag's dt, 0 without drag). No side effects on f.
+PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt);
+
+// pressure_dump.cpp
+PetscErrorCode FluidDumpSetFromOptions(Fluid *f);
+// Before the solve of step f->stats.steps + 1 ending at f->time + dt: decides whether it is dumped (f->dump.now) and
+// keeps the initial guess f->phi. After it: writes the system (collective).
+PetscErrorCode FluidDumpBeforeSolve(Fluid *f, PetscReal dt);
+PetscErrorCode FluidDumpAfterSolve(Fluid *f, PetscReal dt, PetscBool pc_rebuilt);
+PetscErrorCode FluidDumpDestroy(Fluid *f);
 
 // The projection's face coefficient: ε_f u = ε_f u* - c_f grad(phi) with phi = dt p / rho. c0 is 1 for model B
 // (-grad p) and eps_f for model A (-eps grad p); an implicit drag beta_f divides by 1 + dt beta_f / (rho eps_f).

@@ -38,16 +38,17 @@ inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal 
   return out;
 }
 
-PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
+} // namespace
+
+PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
 {
   FieldView E, B;
 
   PetscFunctionBeginUser;
-  PetscCall(MatZeroEntries(f->A));
+  PetscCall(MatZeroEntries(M));
   PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCheck(SameLayout(E, B), f->comm, PETSC_ERR_PLIB, "the scalar ghosted layouts differ");
-  f->dt_last = dt;
   // c_f A / h of every face between two cells of the rows this rank owns, computed once for the two rows that share
   // it: W[a * N + p] for the lower a-face of the cell at offset p
   const PetscInt N = E.m[0] * E.m[1] * E.m[2];
@@ -86,13 +87,23 @@ PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
         }
         col[n]   = row;
         val[n++] = diag;
-        PetscCall(MatSetValuesStencil(f->A, 1, &row, n, col, val, INSERT_VALUES)); // each row once, whole
+        PetscCall(MatSetValuesStencil(M, 1, &row, n, col, val, INSERT_VALUES)); // each row once, whole
       }
     }
   PetscCall(FieldRestore(f->drag_loc, &B));
   PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(MatAssemblyBegin(f->A, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+namespace {
+
+PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  f->dt_last = dt;
+  PetscCall(FluidAssembleOperator(f, f->A, dt));
   f->assemblies++;
   PetscFunctionReturn(0);
 }
@@ -291,6 +302,7 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(KSPSetOperators(f->ksp, f->A, f->A));
   PetscCall(KSPSetFromOptions(f->ksp));
   PetscCall(AdaptPreconditioner(f));
+  PetscCall(FluidDumpSetFromOptions(f));
   {
     // The residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself: CG
     // tracks it with the preconditioner on the left; the GMRES and BiCGStab families need it on the right. Other
@@ -322,6 +334,7 @@ PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc)
 PetscErrorCode FluidPressureDestroy(Fluid *f)
 {
   PetscFunctionBeginUser;
+  PetscCall(FluidDumpDestroy(f));
   PetscCall(KSPDestroy(&f->ksp));
   PetscCall(MatNullSpaceDestroy(&f->nullspace));
   PetscCall(MatDestroy(&f->A));
@@ -368,6 +381,7 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   // initial guess: the last step's pressure (phi = dt p / rho); the pressure changes little from step to step
   PetscCall(VecAXPBY(f->phi, dt / f->rho, 0.0, f->p));
   PetscCall(KSPSetInitialGuessNonzero(f->ksp, PETSC_TRUE));
+  PetscCall(FluidDumpBeforeSolve(f, dt));
   const double t0 = MPI_Wtime();
   PetscCall(KSPSetUp(f->ksp));
   PetscCall(KSPSolve(f->ksp, f->rhs, f->phi));
@@ -390,6 +404,7 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
   } else {
     f->since_pc++;
   }
+  PetscCall(FluidDumpAfterSolve(f, dt, (PetscBool)(f->since_pc == 0)));
   PetscFunctionReturn(0);
 }
 
