@@ -10,8 +10,14 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              for the measured voidage, layer by layer; knobs -dem_dt_factor, -couple_substeps, -fluid_p_ksp_rtol,
              -fluid_pc_reuse;
   muller     the Muller bubbling bed at 0.6 m/s (examples/muller_bed_u060.opts, from its own settled start): the
-             time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor,
-             -couple_substeps and the averaging window (--long: minutes per point).
+             time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor and
+             -couple_substeps (hours per point). The averaging window is not run again: the windows 0.25-4 s are cut
+             from the longest run's pressure series and compared with its full average (their own panel, --png);
+  jet2d      the 750 um jetted 2D pseudo-bed of the stability map (scripts/stability_map.py; its runs, read from its
+             table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
+             against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
+             relative errors; knobs the gas cell width with single or two grids, -dem_dt_factor, -couple_substeps;
+             uncertainty: the reference against its mirrored-start twin.
 Cost: wall seconds per simulated second per core (summary.json). Each problem's Pareto front (no other point both
 cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
 
@@ -95,7 +101,7 @@ def packed_error(out, k):
 
 
 def muller_options(k):
-    return ["-options_file", os.path.join(EX, "muller_bed_u060.opts"), "-t_final", k["window"] + 1.0, "-dem_dt_factor", k["dt_factor"],
+    return ["-options_file", os.path.join(EX, "muller_bed_u060.opts"), "-t_final", MULLER_WINDOW + 1.0, "-dem_dt_factor", k["dt_factor"],
             "-couple_substeps", k["substeps"], "-average_start", 1.0, "-output_particles", 0, "-checkpoint_interval", 0, "-output_interval", 0]
 
 
@@ -108,8 +114,57 @@ def muller_error(out, k):
     dp = s["averages"]["pressure_drop_mean_Pa"]
     mon = read_table(os.path.join(out, "monitor.csv"))
     series = (mon["p_y2_5mm_avg"] - mon["p_y157_5mm_avg"])[mon["time"] >= 1.0]
-    batches = np.array([b.mean() for b in np.array_split(series, 10)])
-    return abs(dp / weight - 1), float(batches.std(ddof=1) / math.sqrt(len(batches)) / weight)
+    return abs(dp / weight - 1), batch_error(series) / weight
+
+
+def batch_error(series, batches=10):
+    """The standard error of a time series' mean by batch means (each batch longer than the bubble period)."""
+    b = np.array([x.mean() for x in np.array_split(np.asarray(series), batches)])
+    return float(b.std(ddof=1) / math.sqrt(len(b)))
+
+
+MULLER_WINDOW = 4.0  # s: every Muller point averages over 1-5 s; the window rows are cut from the default point's run
+MULLER_WINDOWS = [0.25, 0.5, 1.0, 2.0]
+
+
+def muller_window_rows(out, cost):
+    """Error of the probe pressure-drop average over 1 to 1 + w s against the full window's, with its batch-means
+    uncertainty, for each w in MULLER_WINDOWS; cost: the wall seconds per core of 1 + w s of bed."""
+    mon = read_table(os.path.join(out, "monitor.csv"))
+    dp = mon["p_y2_5mm_avg"] - mon["p_y157_5mm_avg"]
+    full = dp[mon["time"] >= 1.0].mean()
+    rows = []
+    for w in MULLER_WINDOWS:
+        part = dp[(mon["time"] >= 1.0) & (mon["time"] <= 1.0 + w)]
+        rows.append({"problem": "muller_window", "knob": "window", "id": "muller_window%g" % w, "window": w, "status": "derived",
+                     "error": abs(part.mean() / full - 1), "uncertainty": batch_error(part) / abs(full), "cost": cost * (1.0 + w)})
+    return rows
+
+
+def jet2d_rows(path):
+    """The stability map's 2D jetted-bed points at the seed's jet that finished, as chart rows (see jet2d above)."""
+    if not os.path.exists(path):
+        return []
+    table = list(csv.DictReader(open(path)))
+    ref = {r["id"]: r for r in table}
+    r0 = ref.get("cell_dt_two_cell0.43_dt0.05_jet45.3_sub1")
+    twin = ref.get("cell_dt_two_cell0.43_dt0.05_jet45.3_sub1_mirror")
+    if not r0 or not r0.get("dp_over_weight"):
+        return []
+    rel = lambda r, k: abs(float(r[k]) / float(r0[k]) - 1)  # noqa: E731
+    unc = max(rel(twin, "dp_over_weight"), rel(twin, "bed_height_mm")) if twin and twin.get("dp_over_weight") else float("nan")
+    rows = []
+    for r in table:
+        if r["map"] not in ("cell_dt", "jet_sub") or float(r["jet"]) != 45.3 or r["id"].endswith("_mirror") or r["id"] == r0["id"]:
+            continue
+        row = {"problem": "jet2d", "knob": "substeps" if r["map"] == "jet_sub" else "cell_dt", "id": "jet2d_" + r["id"], "status": r["status"],
+               "exit_status": r["exit_status"], "dt_factor": float(r["dt_factor"]), "substeps": int(r["substeps"]),
+               "cell": "%s %s d" % (r["method"], r["cell_d"]), "error": float("nan"), "uncertainty": unc,
+               "cost": float(r["cost_s_per_s_core"]) if r.get("cost_s_per_s_core") else float("nan"), "overlap_max": r.get("overlap_max")}
+        if r.get("dp_over_weight") and r["class"] != "unstable":
+            row["error"] = max(rel(r, "dp_over_weight"), rel(r, "bed_height_mm"))
+        rows.append(row)
+    return rows
 
 
 PROBLEMS = {
@@ -119,8 +174,8 @@ PROBLEMS = {
                 "knobs": {"dt_factor": [0.5, 0.3, 0.2, 0.1, 0.05, 0.02]}},
     "packed": {"options": packed_options, "error": packed_error, "defaults": {"dt_factor": 0.1, "substeps": 1, "rtol": 1e-8, "pc_reuse": 10},
                "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 5, 10], "rtol": [1e-4, 1e-6, 1e-8, 1e-10], "pc_reuse": [1, 10, 100]}},
-    "muller": {"options": muller_options, "error": muller_error, "defaults": {"dt_factor": 0.1, "substeps": 1, "window": 2.0},
-               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4], "window": [0.5, 1.0, 2.0, 4.0]}},
+    "muller": {"options": muller_options, "error": muller_error, "defaults": {"dt_factor": 0.1, "substeps": 1},
+               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4]}},
 }
 
 
@@ -158,19 +213,28 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     probs = sorted({r["problem"] for r in rows})
     fig, axes = plt.subplots(1, len(probs), figsize=(5 * len(probs), 4.5), squeeze=False)
-    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window"], "osD^vP"))
+    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt"], "osD^vPX"))
+
+    def label(r, knob):
+        return "%s, dt %g" % (r["cell"], r["dt_factor"]) if knob == "cell_dt" else "%g" % r[knob]
+
     for ax, name in zip(axes[0], probs):
         rs = [r for r in rows if r["problem"] == name and r["error"] == r["error"]]
         for knob in sorted({r["knob"] for r in rs}):
             pts = [r for r in rs if r["knob"] == knob]
             ax.scatter([r["cost"] for r in pts], [max(r["error"], 1e-7) for r in pts], marker=markers.get(knob, "o"), label=knob, alpha=0.8)
             for r in pts:
-                ax.annotate("%g" % r[knob], (r["cost"], max(r["error"], 1e-7)), fontsize=6, xytext=(3, 3), textcoords="offset points")
+                ax.annotate(label(r, knob), (r["cost"], max(r["error"], 1e-7)), fontsize=6, xytext=(3, 3), textcoords="offset points")
         front = sorted((r for r in rs if r["pareto"]), key=lambda r: r["cost"])
         ax.plot([r["cost"] for r in front], [max(r["error"], 1e-7) for r in front], "k--", lw=1, label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("cost: wall s per simulated s per core")
+        ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name == "muller_window" else
+                      "cost: wall s per simulated s per core")
+        unc = [r for r in rs if (r.get("uncertainty") or 0) > 0]
+        if unc:
+            ax.errorbar([r["cost"] for r in unc], [max(r["error"], 1e-7) for r in unc], yerr=[r["uncertainty"] for r in unc], fmt="none",
+                        ecolor="grey", lw=0.8)
         ax.set_ylabel("relative error")
         ax.set_title(name)
         ax.legend(fontsize=7)
@@ -189,8 +253,12 @@ def main():
     ap.add_argument("--exe", default=fbstudy.EXE)
     ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--ci", action="store_true", help="the bounce at three time steps")
+    ap.add_argument("--stability-csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"),
+                    help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
     args = ap.parse_args()
     problems = ["bounce"] if args.ci else args.problems.split(",")
+    derived = "jet2d" in problems
+    problems = [p for p in problems if p != "jet2d"]
     os.makedirs(args.out, exist_ok=True)
 
     def work(pt):
@@ -212,9 +280,13 @@ def main():
     for pt, (row, reused) in fbstudy.run_all(points(problems, args.ci), args.jobs, work):
         rows.append(row)
         fbstudy.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
+        if row["problem"] == "muller" and row["knob"] == "dt_factor" and pt[2] == PROBLEMS["muller"]["defaults"] and row["cost"] == row["cost"]:
+            rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
+    if derived:
+        rows += jet2d_rows(args.stability_csv)
     pareto(rows)
     rows.sort(key=lambda r: (r["problem"], r["knob"], r["id"]))
-    keys = ["problem", "knob", "id", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",
+    keys = ["problem", "knob", "id", "cell", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",
             "cost", "steps", "overlap_max", "pareto"]
     os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
     with open(args.csv, "w", newline="") as f:

@@ -191,8 +191,8 @@ def points(maps, ci):
                     pts.append({"map": "cell_dt", "method": method, "cell_d": cell, "dt_factor": dt, "jet": JET_V, "substeps": 1})
         pts.append(dict(REFERENCE, tag="_mirror"))
     if "jet_sub" in maps:
-        for jet in (45.3, 68.0, 100.0):
-            for sub in (1, 2, 4):
+        for jet in (45.3, 68.0, 100.0, 150.0):
+            for sub in (1, 2, 4, 10):
                 # each method at its own best cells and the reference's step: the two grids at the seed's 0.43 d, the
                 # single grid at 4 d (its finer cells overfill with particle centres, the cell_dt map shows)
                 for method, cell in (("two", 0.43), ("single", 4)):
