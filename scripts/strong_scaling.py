@@ -236,7 +236,7 @@ def row(outdir, ranks):
     r["msg_per_step"] = tot["messages"] / 2 / steps
     r["msg_bytes_per_step"] = tot["msg_bytes"] / 2 / steps
     r["reductions_per_step"] = tot["reductions"] / steps
-    p_it = s.get("fluid", {}).get("pressure_iterations_mean", s.get("fluid", {}).get("p_iterations_mean", float("nan")))
+    p_it = s.get("fluid", {}).get("pressure_iterations_per_solve", float("nan"))
     r["p_iterations"] = p_it
     load = {}
     for name in ("load.json",):
@@ -332,77 +332,125 @@ def plot(rows, png, title):
 
 
 # ------------------------------------------------------------------------------------------------------------- model
-# Cost per step on P ranks (one rank per core):
-#   T(P) = c_p N/P + c_c M/P                            compute: per particle and per fluid cell, from the 1-rank run
-#        + c_h (ghosts + halo) per rank                 ghost/halo handling, proportional to the subdomain surface
-#        + c_m msgs per rank + bytes per rank / B       messages: latency per message (alpha) and bandwidth B
-#        + R(P) alpha_r log2(P)                         the reductions (pressure CG + guards), each a log2(P)-deep tree
-# Fitted here: c_p and c_c (1 rank: the particle stages over N, the gas stages over M), c_h (the growth of the ghost and
-# migrate stages from 1 to 2 ranks over the ghost count). Assumed for a cluster interconnect (stated in docs/scaling.md):
-# alpha = 2 us per message, alpha_r = 3 us per reduction level, B = 10 GB/s per rank.
-ALPHA, ALPHA_R, BANDWIDTH = 2e-6, 3e-6, 1e10
+# Cost per step on P ranks, one rank per core (docs/scaling.md):
+#   T(P) = c_p N/P + c_c M/P                       compute per particle (neighbour, contact, integrate, coupling) and per
+#                                                  gas cell (fluid, pressure), fitted on the 1-rank run
+#        + c_g G(P) + c_h H(P)                     ghost particles and gas halo cells of a rank (its subdomain surface),
+#                                                  fitted on the growth of the ghost+migrate and gas stages from 1 to 2 ranks
+#        + alpha (n_nb m_p + k_it L(P) 6 n_it)     messages: the particle exchanges to n_nb neighbours (m_p per neighbour and
+#                                                  step, measured), and per pressure iteration k_it = 4 halo exchanges on each
+#                                                  of the L(P) multigrid levels with 6 neighbours
+#        + R alpha_r log2(P)                       R reductions per step (measured: the CG's and the guards'), each a
+#                                                  log2(P)-deep tree
+# Assumed for a cluster interconnect (InfiniBand-class): alpha = 2 us per message, alpha_r = 2 us per reduction tree
+# level (an 8-byte allreduce on 1024 ranks = 20 us), B = 5 GB/s per rank for the bytes.
+ALPHA, ALPHA_R, BANDWIDTH = 2e-6, 2e-6, 5e9
+GHOST_BYTES, HALO_BYTES = 88, 8  # a ghost body (11 reals) per step; one real per halo cell and exchange
 
 
-def fit_model(rows, particles, cells):
+def fit_model(rows, particles, cells, iterations):
     r1 = rows[0]
-    part = sum(r1["%s_s" % k] for k in ("neighbour", "contact", "integrate", "coupling")) / r1["ranks"]
-    gas = sum(r1["%s_s" % k] for k in ("fluid", "pressure")) / r1["ranks"]
-    m = {"c_particle": part / max(1, particles) * r1["ranks"], "c_cell": gas / max(1, cells) * r1["ranks"]}
-    # the pressure solve's share that is per iteration: the reductions per step of the 1-rank run (CG: 2-3 per iteration)
-    m["reductions_per_step"] = max(r["reductions_per_step"] for r in rows)
-    m["c_ghost"] = 0.0
-    multi = [r for r in rows if r["ranks"] > 1 and not r["oversubscribed"]] or [r for r in rows if r["ranks"] > 1]
+    n1 = r1["ranks"]
+    part = sum(r1["%s_s" % k] for k in ("neighbour", "contact", "integrate", "coupling")) * n1
+    gas = sum(r1["%s_s" % k] for k in ("fluid", "pressure")) * n1
+    m = {"c_particle": part / max(1, particles), "c_cell": gas / max(1, cells), "c_ghost": 0.0, "c_halo": 0.0,
+         "reductions_per_step": max(r["reductions_per_step"] for r in rows), "pressure_iterations": iterations,
+         "msgs_per_neighbour": 0.0, "fitted_on": [r["ranks"] for r in rows]}
+    multi = [r for r in rows if r["ranks"] > n1 and not r["oversubscribed"]]
     if multi:
         r2 = multi[0]
-        extra = (r2["ghosts_s"] + r2["migrate_s"]) - (r1["ghosts_s"] + r1["migrate_s"]) / r2["ranks"] * r1["ranks"]
-        m["c_ghost"] = max(0.0, extra) / max(1.0, r2["ghosts_max"] + 1e-3 * r2["halo_cells_max"])
-        m["msgs_per_rank_2"] = r2["msg_per_step"] / r2["ranks"]
+        f = n1 / r2["ranks"]
+        dg = (r2["ghosts_s"] + r2["migrate_s"]) - (r1["ghosts_s"] + r1["migrate_s"]) * f
+        dh = (r2["fluid_s"] + r2["pressure_s"]) - (r1["fluid_s"] + r1["pressure_s"]) * f
+        # the growth from 1 to 2 ranks also holds the waiting of a loaded machine (docs/scaling.md): an upper bound. A ghost is
+        # handled like a local particle (its contacts, its body sent each step), a halo cell like a cell: the costs used are
+        # the fits capped at those.
+        m["c_ghost_fit"] = max(0.0, dg) / max(1.0, r2["ghosts_max"])
+        m["c_halo_fit"] = max(0.0, dh) / max(1.0, r2["halo_cells_max"])
+        m["c_ghost"] = min(m["c_ghost_fit"], m["c_particle"])
+        m["c_halo"] = min(m["c_halo_fit"], m["c_cell"])
+        m["msgs_per_neighbour"] = r2["msg_per_step"] / r2["ranks"]  # two ranks: one neighbour each
+        m["from_ranks"] = r2["ranks"]
     return m
 
 
-def predict(m, particles, cells, ranks, d=7.5e-4, phi=0.6, bed_height=None, cells_3d=True):
-    """Efficiency on `ranks` ranks of a 3D bed of `particles` particles on `cells` fluid cells, split into cubes (the
-    surface per rank from the subdomain volume), returns (efficiency, stage times dict)."""
-    v_p = math.pi / 6 * d ** 3
-    volume = particles * v_p / phi  # bed volume
-    sub = volume / ranks
-    side = sub ** (1.0 / 3.0)
-    halo_w = 2.2 * d  # ghost layer: 2 r_max + skin
-    ghosts = phi / v_p * (min((side + 2 * halo_w) ** 3, 27 * sub) - sub)
-    cell_h = (volume / (cells * 0.4)) ** (1.0 / 3.0)  # the bed covers ~40% of the gas cells
-    halo_cells = 6 * (side / cell_h) ** 2 if ranks > 1 else 0.0
-    compute = m["c_particle"] * particles / ranks + m["c_cell"] * cells / ranks
-    t = {"particles": m["c_particle"] * particles / ranks, "gas": m["c_cell"] * cells / ranks}
-    t["ghosts"] = m["c_ghost"] * (ghosts + 1e-3 * halo_cells) if ranks > 1 else 0.0
-    msgs = 26 * 3 + 6 * m["reductions_per_step"] / 2  # ghosts/migration to 26 neighbours, gas halos per CG iteration
-    bytes_ = 88 * ghosts + 8 * halo_cells * m["reductions_per_step"] / 2
-    t["messages"] = (ALPHA * msgs + bytes_ / BANDWIDTH) if ranks > 1 else 0.0
-    t["reductions"] = m["reductions_per_step"] * ALPHA_R * math.log2(ranks) if ranks > 1 else 0.0
-    total = sum(t.values())
-    return compute / total, t
+def bed_geometry(particles, cells, d, phi=0.6, aspect=1.0, box=5.0):
+    """A square 3D bed of `particles` spheres of diameter d at solid fraction phi, as high as `aspect` times its width,
+    in a box `box` times the bed height, under `cells` gas cells: (width, bed height, box height, gas cell size)."""
+    volume = particles * math.pi / 6 * d ** 3 / phi
+    width = (volume / aspect) ** (1.0 / 3.0)
+    height = aspect * width
+    h = (width * width * box * height / cells) ** (1.0 / 3.0)
+    return width, height, box * height, h
 
 
-def model_report(rows, particles, cells):
-    m = fit_model(rows, particles, cells)
-    lines = ["Cost model fitted on this table: %.3g s per particle-step, %.3g s per cell-step, %.3g s per ghost particle, "
-             "%.0f reductions per step; assumed alpha = %.0f us per message, %.0f us per reduction tree level, %.0f GB/s per rank"
-             % (m["c_particle"], m["c_cell"], m["c_ghost"], m["reductions_per_step"], 1e6 * ALPHA, 1e6 * ALPHA_R, BANDWIDTH / 1e9)]
-    out = {"model": m, "beds": {}}
-    for name, n_p in (("seed 3D bed, 2.9 million particles", 2.9e6), ("10 million particles", 1e7)):
-        cells_b = n_p * cells / max(1, particles)  # gas cells in proportion to the particles, as in the measured scene
-        lines.append("%s (%.3g gas cells):" % (name, cells_b))
-        lines.append("| ranks | efficiency | particles ms | gas ms | ghosts ms | messages ms | reductions ms | first to stop scaling |")
-        lines.append("|---|---|---|---|---|---|---|---|")
-        bed = []
-        for P in (64, 128, 256, 512, 1024):
-            e, t = predict(m, n_p, cells_b, P)
-            worst = max(("ghosts", "messages", "reductions"), key=lambda k: t[k])
-            lines.append("| %d | %.2f | %.3f | %.3f | %.3f | %.3f | %.3f | %s |" % (P, e, 1e3 * t["particles"], 1e3 * t["gas"], 1e3 * t["ghosts"],
-                                                                           1e3 * t["messages"], 1e3 * t["reductions"], worst))
-            bed.append({"ranks": P, "efficiency": e, **t})
-        below = [b["ranks"] for b in bed if b["efficiency"] < 0.5]
-        lines.append("efficiency below 0.5 from %s ranks" % (below[0] if below else "beyond 1024"))
-        out["beds"][name] = bed
+def predict(m, particles, cells, ranks, d, layout="horizontal", phi=0.6):
+    """(efficiency, stage times) on `ranks` ranks. horizontal: P columns of the whole box height (fluidbed's default);
+    cubes: cubes of the bed (split y inside the bed as well), the gas above the bed on the top layer of ranks."""
+    width, hb, hbox, h = bed_geometry(particles, cells, d, phi)
+    n_vol = particles / (width * width * hb)
+    w = 1.1 * d  # ghost layer: 2 r_max + skin of 0.1 d
+    if layout == "horizontal":
+        a = width / math.sqrt(ranks)
+        own_p, own_c = particles / ranks, cells / ranks
+        ghosts = n_vol * hb * ((a + 2 * w) ** 2 - a * a)
+        halo = 4 * (a / h) * (hbox / h)
+        nb = 8
+    else:
+        a = (width * width * hb / ranks) ** (1.0 / 3.0)
+        own_p = particles / ranks
+        layers = max(1, round(hb / a))
+        cols = ranks / layers
+        own_c = max(cells * (hb / hbox) / ranks, cells * (1 - hb / hbox) / cols)  # the top layer holds the freeboard
+        ghosts = n_vol * ((a + 2 * w) ** 3 - a ** 3)
+        halo = 6 * (a / h) ** 2
+        nb = 26
+    ideal = (m["c_particle"] * particles + m["c_cell"] * cells) / ranks
+    t = {"particles": m["c_particle"] * own_p, "gas": m["c_cell"] * own_c}
+    if ranks > 1:
+        levels = max(1, math.log2(max(2.0, (cells ** (1.0 / 3.0)))))
+        t["ghosts"] = m["c_ghost"] * ghosts + m["c_halo"] * halo
+        t["messages"] = ALPHA * (nb * m["msgs_per_neighbour"] + 4 * levels * 6 * m["pressure_iterations"]) + \
+            (GHOST_BYTES * ghosts + HALO_BYTES * halo * (10 + 4 * m["pressure_iterations"])) / BANDWIDTH
+        t["reductions"] = m["reductions_per_step"] * ALPHA_R * math.log2(ranks)
+    else:
+        t.update(ghosts=0.0, messages=0.0, reductions=0.0)
+    t["ghosts_per_rank"], t["halo_per_rank"], t["particles_per_rank"] = ghosts, halo, own_p
+    total = sum(t[k] for k in ("particles", "gas", "ghosts", "messages", "reductions"))
+    return ideal / total, t
+
+
+BEDS = (("the seed's 3D bed, 2.9 million particles", 2.9e6), ("10 million particles", 1e7))
+
+
+def model_report(rows, particles, cells, iterations, d):
+    m = fit_model(rows, particles, cells, iterations)
+    lines = ["Fitted on ranks %s: %.3g s per particle-step, %.3g s per gas cell-step, %.3g s per ghost particle, %.3g s per halo cell "
+             "(per step; fits %.3g and %.3g capped at the particle and cell costs); %.0f reductions and %.1f pressure iterations per step, %.1f messages per neighbour per step. Assumed: "
+             "alpha = %.0f us per message, %.0f us per reduction tree level, %.0f GB/s per rank. Beds: square, as high as wide, "
+             "solid fraction 0.6, d = %.3g mm, box 5 bed heights tall, gas cells in the measured proportion (%.2f per particle)."
+             % (m["fitted_on"], m["c_particle"], m["c_cell"], m["c_ghost"], m["c_halo"], m.get("c_ghost_fit", 0), m.get("c_halo_fit", 0),
+                m["reductions_per_step"], iterations,
+                m["msgs_per_neighbour"], 1e6 * ALPHA, 1e6 * ALPHA_R, BANDWIDTH / 1e9, 1e3 * d, cells / max(1, particles))]
+    out = {"model": m, "assumed": {"alpha": ALPHA, "alpha_r": ALPHA_R, "bandwidth": BANDWIDTH}, "beds": {}}
+    for name, n_p in BEDS:
+        cells_b = n_p * cells / max(1, particles)
+        for layout in ("horizontal", "cubes"):
+            lines.append("")
+            lines.append("%s, %.3g gas cells, %s subdomains:" % (name, cells_b, "column (x, z split)" if layout == "horizontal" else "cube (x, y, z split in the bed)"))
+            lines.append("| ranks | efficiency | particles ms | gas ms | ghosts+halo ms | messages ms | reductions ms | ghosts/rank | largest overhead |")
+            lines.append("|---|---|---|---|---|---|---|---|---|")
+            bed = []
+            for P in (64, 128, 256, 512, 1024):
+                e, t = predict(m, n_p, cells_b, P, d, layout)
+                worst = max(("ghosts", "messages", "reductions"), key=lambda k: t[k])
+                lines.append("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s |" % (
+                    P, e, 1e3 * t["particles"], 1e3 * t["gas"], 1e3 * t["ghosts"], 1e3 * t["messages"], 1e3 * t["reductions"],
+                    t["ghosts_per_rank"], worst))
+                bed.append(dict(ranks=P, efficiency=e, **t))
+            below = [b["ranks"] for b in bed if b["efficiency"] < 0.5]
+            lines.append("efficiency below 0.5 from %s ranks" % (below[0] if below else "beyond 1024"))
+            out["beds"]["%s, %s" % (name, layout)] = bed
     return "\n".join(lines), out
 
 
@@ -431,6 +479,7 @@ def main(argv=None):
     ap.add_argument("--minutes", type=int, default=30, help="SLURM time limit per job")
     ap.add_argument("--launcher", default="", help="launcher in the batch script: srun (default, 'srun --mpi=pmix') or mpiexec")
     ap.add_argument("--model", action="store_true", help="fit the cost model and predict 64-1024 ranks")
+    ap.add_argument("--model-d", type=float, default=7.5e-4, help="particle diameter of the modelled beds (m)")
     ap.add_argument("--title", default="")
     args = ap.parse_args(argv)
     if args.scene is None:
@@ -474,7 +523,8 @@ def main(argv=None):
     if args.model:
         s = fbstudy.summary(os.path.join(os.path.abspath(args.out), "np%d" % rows[0]["ranks"]))
         d = s.get("decomposition", {})
-        text, out = model_report(rows, sum(d.get("particles_per_rank", [0])), sum(d.get("fluid_cells_per_rank", [0])))
+        it = s.get("fluid", {}).get("pressure_iterations_per_solve", 0.0)
+        text, out = model_report(rows, sum(d.get("particles_per_rank", [0])), sum(d.get("fluid_cells_per_rank", [0])), it, args.model_d)
         print(text)
         with open(os.path.join(args.out, "model.md"), "w") as f:
             f.write(text + "\n")
