@@ -355,7 +355,7 @@ def fit_model(rows, particles, cells, iterations):
     gas = sum(r1["%s_s" % k] for k in ("fluid", "pressure")) * n1
     m = {"c_particle": part / max(1, particles), "c_cell": gas / max(1, cells), "c_ghost": 0.0, "c_halo": 0.0,
          "reductions_per_step": max(r["reductions_per_step"] for r in rows), "pressure_iterations": iterations,
-         "msgs_per_neighbour": 0.0, "fitted_on": [r["ranks"] for r in rows]}
+         "msgs_per_neighbour": 0.0, "fitted_on": [n1]}
     multi = [r for r in rows if r["ranks"] > n1 and not r["oversubscribed"]]
     if multi:
         r2 = multi[0]
@@ -370,7 +370,7 @@ def fit_model(rows, particles, cells, iterations):
         m["c_ghost"] = min(m["c_ghost_fit"], m["c_particle"])
         m["c_halo"] = min(m["c_halo_fit"], m["c_cell"])
         m["msgs_per_neighbour"] = r2["msg_per_step"] / r2["ranks"]  # two ranks: one neighbour each
-        m["from_ranks"] = r2["ranks"]
+        m["fitted_on"].append(r2["ranks"])
     return m
 
 
