@@ -13,7 +13,7 @@ FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-
 # --no-install-recommends skips) in a virtual X server, for tests/io/test_paraview.py; petsc4py and slepc4py for
 # scripts/ksp_compare.py and tests/studies/test_ksp_compare.py. scripts/test.sh sets FLUIDBED_WITH_TEST_PACKAGES=1
 # before sourcing this file.
-FLUIDBED_TEST_PACKAGES=(paraview python3-paraview xvfb xauth python3-petsc4py python3-slepc4py)
+FLUIDBED_TEST_PACKAGES=(paraview python3-paraview xvfb xauth python3-petsc4py python3-slepc4py slurm-wlm munge)
 if [[ ${FLUIDBED_WITH_TEST_PACKAGES:-0} == 1 ]]; then
   FLUIDBED_PACKAGES+=("${FLUIDBED_TEST_PACKAGES[@]}")
 fi

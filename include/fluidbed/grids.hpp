@@ -22,6 +22,9 @@ struct FluidGrid {
   std::vector<PetscInt> own[3]; // cells owned by each process along each direction
 };
 
+// How the process grid is chosen when -pgrid_processors is not given (-pgrid_layout).
+enum GridLayout { GRID_LAYOUT_HORIZONTAL, GRID_LAYOUT_PETSC };
+
 struct ParticleGrid {
   DM                    da_cell   = nullptr; // cell-centred coarse DMDA for per-particle-cell fields
   DM                    da_vertex = nullptr; // vertex DMDA used as the swarm's cell DM
@@ -30,7 +33,8 @@ struct ParticleGrid {
   PetscInt              ratio[3]{1, 1, 1};
   PetscInt              procs[3]{1, 1, 1}; // process grid
   PetscInt              proc[3]{0, 0, 0};  // this rank's place in it
-  std::vector<PetscInt> start[3];          // first cell of each process along each direction; start[a][procs[a]] = n[a]
+  GridLayout            layout = GRID_LAYOUT_HORIZONTAL;
+  std::vector<PetscInt> start[3]; // first cell of each process along each direction; start[a][procs[a]] = n[a]
   PetscInt              cell_lo[3]{0, 0, 0}, cell_hi[3]{1, 1, 1}; // cells owned by this rank, [lo, hi)
   PetscReal             sub_lo[3]{0, 0, 0}, sub_hi[3]{0, 0, 0};   // the rank's subdomain in space
 
@@ -47,6 +51,8 @@ struct Grids {
 // d_max is the largest particle diameter (m).
 PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max, Grids *grids);
 PetscErrorCode GridsDestroy(Grids *grids);
+// This rank's fluid cells and the halo cells its star stencil receives from neighbouring ranks.
+PetscErrorCode GridsLocalCells(const Grids &grids, PetscInt64 *owned, PetscInt64 *halo);
 PetscErrorCode GridsView(const Grids &grids, const Domain &domain, PetscViewer viewer);
 
 } // namespace fluidbed

@@ -32,6 +32,37 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscFunctionReturn(0);
 }
 
+// Per-rank figures of the decomposition at the end of the run (for strong-scaling studies): the process grid, and on
+// each rank the particles, ghost particles, fluid cells and the fluid halo cells it receives.
+PetscErrorCode DecompositionAddSummary(Simulation *sim, JsonWriter *json)
+{
+  const ParticleGrid &pg = sim->grids.particle;
+  PetscMPIInt         size;
+  PetscInt            nlocal  = 0;
+  PetscInt64          mine[4] = {0, 0, 0, 0};
+  JsonWriter          d;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  if (sim->swarm) PetscCall(DMSwarmGetLocalSize(sim->swarm, &nlocal));
+  mine[0] = nlocal;
+  mine[1] = sim->dem ? (PetscInt64)sim->dem->ghosts.n : 0;
+  PetscCall(GridsLocalCells(sim->grids, &mine[2], &mine[3]));
+  std::vector<PetscInt64> all(4 * (size_t)size);
+  PetscCallMPI(MPI_Allgather(mine, 4, MPIU_INT64, all.data(), 4, MPIU_INT64, sim->comm));
+  std::vector<long long> col[4];
+  for (PetscMPIInt r = 0; r < size; ++r)
+    for (int k = 0; k < 4; ++k) col[k].push_back((long long)all[4 * (size_t)r + k]);
+  d.IntegerArray("process_grid", {(long long)pg.procs[0], (long long)pg.procs[1], (long long)pg.procs[2]});
+  d.String("layout", pg.layout == GRID_LAYOUT_PETSC ? "petsc" : "horizontal");
+  d.IntegerArray("particles_per_rank", col[0]);
+  d.IntegerArray("ghost_particles_per_rank", col[1]);
+  d.IntegerArray("fluid_cells_per_rank", col[2]);
+  d.IntegerArray("halo_cells_per_rank", col[3]);
+  json->Object("decomposition", d);
+  PetscFunctionReturn(0);
+}
+
 std::string Duration(double s)
 {
   char buf[64];
@@ -65,6 +96,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
     json.Integer("particles_lost", (long long)sim->dem->stats.lost.count); // through a wall or in migration (the escape guard)
   }
   json.Integer("ranks", size);
+  PetscCall(DecompositionAddSummary(sim, &json));
   if (sim->dem) {
     json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
     json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);

@@ -11,6 +11,8 @@ namespace fluidbed {
 namespace {
 
 const char *const AxisName[3] = {"x", "y", "z"};
+// -pgrid_layout: how the process grid is chosen when -pgrid_processors is not given (PETSc's enum list format)
+const char *const LayoutNames[] = {"horizontal", "petsc", "GridLayout", "GRID_LAYOUT_", NULL};
 
 // Creates a DMDA of dimension dim with given global sizes, process grid and ownership ranges (NULL: decide).
 // Default process grid: split x and z only (particles settle at the bottom of a bed, so a vertical split
@@ -58,6 +60,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
   PetscInt      nf[3] = {0, 0, 0}, ratio[3] = {0, 0, 0}, nratio = 3, procs[3] = {PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE}, nprocs = 3;
   PetscReal     cell_diameters = 3.0;
   PetscBool     set_n[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, set_ratio = PETSC_FALSE, set_procs = PETSC_FALSE;
+  PetscEnum     layout = (PetscEnum)GRID_LAYOUT_HORIZONTAL;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "grid_", "Fluid grid (fine, cell-centred)", "Grids");
@@ -76,7 +79,13 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
                         Closed(1.0, 1000.0), &cell_diameters, NULL));
   PetscCall(OptionsIntArray(PetscOptionsObject, "-processors", "Process grid m,n[,p] (default: split x and z only, squarest subdomains)",
                             PETSC_MIN_INT, PETSC_MAX_INT, procs, &nprocs, &set_procs));
+  PetscCall(OptionsEnum(PetscOptionsObject, "-layout",
+                        "Process grid when -pgrid_processors is not given: horizontal (split x and z only, so that a bed settled at "
+                        "the bottom is shared by every rank) or petsc (PETSc's balanced choice, which splits the longest direction, "
+                        "y in a tall box)",
+                        LayoutNames, &layout, NULL));
   PetscOptionsEnd();
+  pg.layout = (GridLayout)layout;
 
   if (set_ratio) {
     PetscCheck(nratio == 1 || nratio == dim, comm, PETSC_ERR_USER_INPUT, "-pgrid_ratio takes 1 or %d values, got %d", dim, (int)nratio);
@@ -131,7 +140,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     if (set_procs) {
       PetscCheck(procs[0] * procs[1] * (dim == 3 ? procs[2] : 1) == nranks, comm, PETSC_ERR_USER_INPUT,
                  "-pgrid_processors product must equal the %d ranks", (int)nranks);
-    } else HorizontalProcessGrid(dim, pg.n, nranks, procs);
+    } else if (pg.layout == GRID_LAYOUT_HORIZONTAL) HorizontalProcessGrid(dim, pg.n, nranks, procs);
     for (int a = 0; a < dim; ++a) {
       // a rank must own at least one particle cell in every direction
       PetscCheck(!set_procs || procs[a] <= pg.n[a], comm, PETSC_ERR_USER_INPUT, "%d ranks along %s but only %d particle cells",
@@ -196,6 +205,25 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     for (int a = 0; a < dim; ++a)
       PetscCheck(xs[a] == pg.cell_lo[a] * pg.ratio[a] && xm[a] == (pg.cell_hi[a] - pg.cell_lo[a]) * pg.ratio[a], PETSC_COMM_SELF,
                  PETSC_ERR_PLIB, "fluid and particle grids are not aligned along %s", AxisName[a]);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GridsLocalCells(const Grids &g, PetscInt64 *owned, PetscInt64 *halo)
+{
+  PetscInt dim, sw, xs[3], xm[3], gs[3], gm[3];
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(g.fluid.da, &dim, NULL, NULL, NULL, NULL, NULL, NULL, NULL, &sw, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetCorners(g.fluid.da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
+  PetscCall(DMDAGetGhostCorners(g.fluid.da, &gs[0], &gs[1], &gs[2], &gm[0], &gm[1], &gm[2]));
+  *owned = (PetscInt64)xm[0] * xm[1] * xm[2];
+  *halo  = 0;
+  // star stencil: the layers of width sw on each face that has a neighbour (the ghost box's corners are not exchanged)
+  for (PetscInt a = 0; a < dim; ++a) {
+    const PetscInt64 face  = *owned / xm[a];
+    const PetscInt   sides = (gs[a] < xs[a] ? 1 : 0) + (gs[a] + gm[a] > xs[a] + xm[a] ? 1 : 0);
+    *halo += face * sides * sw;
   }
   PetscFunctionReturn(0);
 }
