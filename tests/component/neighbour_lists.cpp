@@ -1,0 +1,222 @@
+// Component test of the DEM's neighbour lists and ghosts on any number of ranks: after a few steps of the scene
+// given by the options (and a rebuild), every rank's lists are compared with a brute-force search over all
+// particles of all ranks (minimum image along periodic axes):
+//   - each pair closer than r_i + r_j + skin is listed, and no other: once when both particles are local to one
+//     rank, and from each side when it is seen through a ghost (its own rank's ghost, or a periodic image), so
+//     every ghost the lists need was there;
+//   - each particle's full list holds exactly its brute-force partners;
+//   - each wall within r + skin is in the particle's wall list, and a listed wall is either that near or still
+//     holds a contact history.
+// Prints one line per check and exits nonzero on the first failure (the test driver runs it on 1, 2 and 4 ranks).
+#include "fluidbed/dem.hpp"
+#include "fluidbed/domain.hpp"
+#include "fluidbed/grids.hpp"
+#include "fluidbed/kernels/periodic.hpp"
+#include "fluidbed/particles.hpp"
+#include "fluidbed/phases.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <vector>
+
+using namespace fluidbed;
+
+static const char help[] = "Neighbour lists and ghosts against a brute-force search (-steps N: DEM steps before the check)\n";
+
+namespace {
+
+struct Body {
+  PetscInt64 id;
+  PetscReal  x[3], r;
+};
+
+// Every rank's local bodies, on every rank.
+PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std::vector<Body> *all)
+{
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<PetscReal> mine;
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const ContactBody &b = dem.bodies[(std::size_t)i];
+    mine.insert(mine.end(), {(PetscReal)dem.body_id[(std::size_t)i], b.x.x, b.x.y, b.x.z, b.r});
+  }
+  PetscMPIInt              n = (PetscMPIInt)mine.size();
+  std::vector<PetscMPIInt> counts((std::size_t)size), displs((std::size_t)size, 0);
+  PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
+  for (PetscMPIInt r = 1; r < size; ++r) displs[(std::size_t)r] = displs[(std::size_t)r - 1] + counts[(std::size_t)r - 1];
+  std::vector<PetscReal> flat((std::size_t)(displs.back() + counts.back()));
+  PetscCallMPI(MPI_Allgatherv(mine.data(), n, MPIU_REAL, flat.data(), counts.data(), displs.data(), MPIU_REAL, comm));
+  all->clear();
+  for (std::size_t k = 0; k < flat.size(); k += 5)
+    all->push_back({(PetscInt64)flat[k], {flat[k + 1], flat[k + 2], flat[k + 3]}, flat[k + 4]});
+  PetscFunctionReturn(0);
+}
+
+// Gathers (a, b, kind) triples of every rank: kind 0 a local-local pair, 1 a pair seen from a's side through a ghost.
+PetscErrorCode GatherPairs(MPI_Comm comm, const std::vector<PetscInt64> &mine, std::vector<PetscInt64> *all)
+{
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscMPIInt              n = (PetscMPIInt)mine.size();
+  std::vector<PetscMPIInt> counts((std::size_t)size), displs((std::size_t)size, 0);
+  PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
+  for (PetscMPIInt r = 1; r < size; ++r) displs[(std::size_t)r] = displs[(std::size_t)r - 1] + counts[(std::size_t)r - 1];
+  all->resize((std::size_t)(displs.back() + counts.back()));
+  PetscCallMPI(MPI_Allgatherv(mine.data(), n, MPIU_INT64, all->data(), counts.data(), displs.data(), MPIU_INT64, comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Check(MPI_Comm comm, bool ok, const char *what, long long detail)
+{
+  PetscFunctionBeginUser;
+  int bad = ok ? 0 : 1, any = 0;
+  PetscCallMPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm));
+  PetscCall(PetscPrintf(comm, "%s: %s (%lld)\n", any ? "FAIL" : "ok", what, detail));
+  PetscCheck(!any, comm, PETSC_ERR_PLIB, "neighbour-list check failed: %s", what);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckLists(MPI_Comm comm, const Domain &dom, Dem &dem)
+{
+  const PetscInt       nlocal = (PetscInt)dem.bodies.size() - dem.ghosts.n;
+  const NeighbourList &nl     = dem.nl;
+  std::vector<Body>    all;
+  ParticleArrays       p;
+
+  PetscFunctionBeginUser;
+  PetscCall(GatherBodies(comm, dem, nlocal, &all));
+  std::sort(all.begin(), all.end(), [](const Body &a, const Body &b) { return a.id < b.id; });
+
+  // brute force over all pairs, minimum image along periodic axes
+  std::set<std::pair<PetscInt64, PetscInt64>> expected;
+  std::map<PetscInt64, PetscInt>              partners_of;
+  for (std::size_t a = 0; a < all.size(); ++a)
+    for (std::size_t b = a + 1; b < all.size(); ++b) {
+      PetscReal d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        PetscReal d = all[b].x[k] - all[a].x[k];
+        if (dom.periodic[k]) d = kernels::min_image(d, dom.len[k]);
+        d2 += d * d;
+      }
+      const PetscReal cut = all[a].r + all[b].r + dem.skin;
+      if (d2 < cut * cut) {
+        expected.insert({all[a].id, all[b].id});
+        partners_of[all[a].id]++;
+        partners_of[all[b].id]++;
+      }
+    }
+
+  // this rank's half lists as (a, b, kind) triples, and the full lists' sizes
+  std::vector<PetscInt64> mine;
+  bool                    full_ok  = true;
+  PetscInt64              full_bad = -1;
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const PetscInt64 id = dem.body_id[(std::size_t)i];
+    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
+      const PetscInt j = nl.pairs[(std::size_t)q].partner;
+      mine.insert(mine.end(), {id, dem.body_id[(std::size_t)j], j < nlocal ? 0 : 1});
+    }
+    const PetscInt listed = nl.start[(std::size_t)i + 1] - nl.start[(std::size_t)i];
+    const auto     it     = partners_of.find(id);
+    if (listed != (it == partners_of.end() ? 0 : it->second) && full_ok) {
+      full_ok  = false;
+      full_bad = id;
+    }
+  }
+  std::vector<PetscInt64> triples;
+  PetscCall(GatherPairs(comm, mine, &triples));
+  std::map<std::pair<PetscInt64, PetscInt64>, std::vector<PetscInt64>> seen; // pair (min, max) -> (from, kind)...
+  for (std::size_t k = 0; k < triples.size(); k += 3) {
+    const PetscInt64 a = triples[k], b = triples[k + 1];
+    seen[{std::min(a, b), std::max(a, b)}].insert(seen[{std::min(a, b), std::max(a, b)}].end(), {a, triples[k + 2]});
+  }
+  long long missing = 0, extra = 0, wrong = 0;
+  for (const auto &e : expected)
+    if (!seen.count(e)) ++missing;
+  for (const auto &s : seen) {
+    if (!expected.count(s.first)) {
+      ++extra;
+      continue;
+    }
+    const std::vector<PetscInt64> &v          = s.second; // from, kind, from, kind...
+    const bool                     local_once = v.size() == 2 && v[1] == 0;
+    const bool                     both_sides = v.size() == 4 && v[1] == 1 && v[3] == 1 && v[0] != v[2];
+    if (!local_once && !both_sides) ++wrong;
+  }
+  PetscCall(PetscPrintf(comm, "%zu particles, %zu pairs within r_i + r_j + skin (skin %.3g m), %zu listed\n", all.size(), expected.size(),
+                        (double)dem.skin, seen.size()));
+  PetscCall(Check(comm, missing == 0, "every pair within the cutoff is listed (missing)", missing));
+  PetscCall(Check(comm, extra == 0, "no pair beyond the cutoff is listed (extra)", extra));
+  PetscCall(Check(comm, wrong == 0, "each pair once when local, from both sides through ghosts (wrong)", wrong));
+  PetscCall(Check(comm, full_ok, "each full list holds exactly its particle's partners (first wrong id)", (long long)full_bad));
+
+  // walls
+  long long wall_missing = 0, wall_extra = 0;
+  PetscCall(ParticleArraysGet(dem.swarm, &p));
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const ContactBody &b = dem.bodies[(std::size_t)i];
+    std::set<PetscInt> listed;
+    for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
+      const WallContact &wc = nl.walls[(std::size_t)k];
+      listed.insert(wc.face);
+    }
+    for (PetscInt f = 0; f < 2 * dom.dim; ++f) {
+      const int a = (int)f / 2;
+      if (dom.periodic[a]) {
+        if (listed.count(f)) ++wall_extra;
+        continue;
+      }
+      const PetscReal xa   = (&b.x.x)[a];
+      const PetscReal gap  = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
+      const bool      near = gap < b.r + dem.skin;
+      bool            held = false;
+      for (PetscInt s = 0; s < p.K; ++s) held = held || p.ckey[p.K * i + s] == WallKey((int)f);
+      if (near && !listed.count(f)) ++wall_missing;
+      if (!near && listed.count(f) && !held) ++wall_extra;
+    }
+  }
+  PetscCall(ParticleArraysRestore(dem.swarm, &p));
+  PetscCall(Check(comm, wall_missing == 0, "every wall within r + skin is listed (missing)", wall_missing));
+  PetscCall(Check(comm, wall_extra == 0, "no other wall is listed, unless it holds a contact history (extra)", wall_extra));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+  MPI_Comm        comm;
+  Domain          dom;
+  ParticleProps   props;
+  Grids           grids;
+  PhaseLog        log;
+  Dem            *dem   = nullptr;
+  DM              swarm = nullptr;
+  InsertionReport inserted;
+  PetscInt        steps = 50;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  comm = PETSC_COMM_WORLD;
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-steps", &steps, NULL));
+  PetscCall(PhaseLogRegister(&log));
+  PetscCall(DomainSetFromOptions(comm, &dom));
+  PetscCall(ParticlePropsSetFromOptions(comm, dom, &props));
+  PetscCall(GridsCreate(comm, dom, props.d_max, &grids));
+  PetscCall(DemCreate(comm, dom, grids.particle, props, &log, &dem));
+  PetscCall(DemCreateSwarm(dem, &swarm));
+  PetscCall(ParticlesInsert(comm, dom, grids.particle, props, swarm, &inserted));
+  PetscCall(DemSetUp(dem, swarm, PETSC_FALSE));
+  PetscCall(CheckLists(comm, dom, *dem)); // the lists of the insertion
+  for (PetscInt s = 0; s < steps; ++s) PetscCall(DemStep(dem));
+  PetscCall(DemRebuild(dem));
+  PetscCall(PetscPrintf(comm, "after %d steps and a rebuild (%lld rebuilds in all):\n", (int)steps, (long long)dem->stats.rebuilds));
+  PetscCall(CheckLists(comm, dom, *dem));
+  PetscCall(DMDestroy(&swarm));
+  PetscCall(DemDestroy(&dem));
+  PetscCall(GridsDestroy(&grids));
+  PetscCall(PetscFinalize());
+  return 0;
+}
