@@ -1,6 +1,7 @@
 // Two-grid (and single-grid) gas-particle coupling: see include/fluidbed/coupling.hpp. Gets the fields, loops,
 // calls the drag kernel, restores; the drag laws live in kernels/drag_*.hpp.
 #include "fluidbed/coupling.hpp"
+#include "fluidbed/dmda_field.hpp"
 #include "fluidbed/options.hpp"
 
 #include <petscviewerhdf5.h>
@@ -55,44 +56,6 @@ struct Coupling {
 
 namespace {
 
-// A DMDA array (global or ghosted local) addressed by global cell index and component.
-struct CellView {
-  PetscScalar *a = nullptr;
-  PetscInt     s[3]{0, 0, 0}, m[3]{1, 1, 1}, dof = 1;
-  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c) const
-  {
-    return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
-  }
-  bool Contains(const PetscInt c[3]) const
-  {
-    for (int d = 0; d < 3; ++d)
-      if (c[d] < s[d] || c[d] >= s[d] + m[d]) return false;
-    return true;
-  }
-};
-
-PetscErrorCode ViewGet(DM da, Vec v, PetscBool ghosted, CellView *view)
-{
-  PetscInt dim;
-  PetscFunctionBeginUser;
-  PetscCall(DMDAGetInfo(da, &dim, NULL, NULL, NULL, NULL, NULL, NULL, &view->dof, NULL, NULL, NULL, NULL, NULL));
-  if (ghosted) PetscCall(DMDAGetGhostCorners(da, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
-  else PetscCall(DMDAGetCorners(da, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
-  if (dim == 2) {
-    view->s[2] = 0;
-    view->m[2] = 1;
-  }
-  PetscCall(VecGetArray(v, &view->a));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode ViewRestore(Vec v, CellView *view)
-{
-  PetscFunctionBeginUser;
-  PetscCall(VecRestoreArray(v, &view->a));
-  PetscFunctionReturn(0);
-}
-
 // The coupling cell of a particle centre (clamped to the domain).
 inline void CellOf(const Coupling *c, const Vec3 &x, PetscInt cell[3])
 {
@@ -108,7 +71,7 @@ inline void CellOf(const Coupling *c, const Vec3 &x, PetscInt cell[3])
 }
 
 template <class Fn>
-void ForOwnedCells(const CellView &v, Fn &&fn)
+void ForOwnedCells(const DMDAField &v, Fn &&fn)
 {
   for (PetscInt k = v.s[2]; k < v.s[2] + v.m[2]; ++k)
     for (PetscInt j = v.s[1]; j < v.s[1] + v.m[1]; ++j)
@@ -172,20 +135,20 @@ inline void CellIjk(const Coupling *c, PetscInt64 flat, PetscInt cell[3])
 // DepositOrder) with halos added to their owners, then the owned cells' eps, then halos.
 PetscErrorCode DepositVoidFraction(Coupling *c)
 {
-  CellView dep, d, g;
+  DMDAField dep, d, g;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(c->deposit_loc));
-  PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
+  PetscCall(DMDAFieldGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
   for (PetscInt p : c->order) dep.a[c->order_local[(std::size_t)p] * dep.dof] += c->volume[p]; // ghosted block offsets
-  PetscCall(ViewRestore(c->deposit_loc, &dep));
+  PetscCall(DMDAFieldRestore(c->deposit_loc, &dep));
   PetscCall(VecZeroEntries(c->deposit));
   PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
 
   PetscReal  lo[2] = {1.0, 1.0}, hi = 0.0; // least eps after and before the floor, largest eps
   PetscInt64 clamped = 0;
-  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
-  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
+  PetscCall(DMDAFieldGet(c->da, c->deposit, PETSC_FALSE, &d));
+  PetscCall(DMDAFieldGet(c->da, c->gas, PETSC_FALSE, &g));
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
     PetscReal eps = 1.0 - d(i, j, k, 0) / c->cell_volume;
     lo[1]         = PetscMin(lo[1], eps);
@@ -197,8 +160,8 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
     lo[0]         = PetscMin(lo[0], eps);
     hi            = PetscMax(hi, eps);
   });
-  PetscCall(ViewRestore(c->gas, &g));
-  PetscCall(ViewRestore(c->deposit, &d));
+  PetscCall(DMDAFieldRestore(c->gas, &g));
+  PetscCall(DMDAFieldRestore(c->deposit, &d));
   PetscReal glo[2];
   PetscCallMPI(MPI_Allreduce(lo, glo, 2, MPIU_REAL, MPI_MIN, c->comm));
   c->stats.eps_min     = glo[0];
@@ -218,7 +181,7 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
   PetscInt    n;
   PetscReal  *f, *a, *b, sum_local[3] = {0, 0, 0};
   PetscInt64 *cells;
-  CellView    gas, dep;
+  DMDAField   gas, dep;
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
@@ -227,7 +190,7 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
   PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
   PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
   PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
-  PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
+  PetscCall(DMDAFieldGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
   for (PetscInt p = 0; p < n; ++p) {
     if (a[p] == 0) continue; // not linearised yet (just inserted): no drag, and its cell is not set
     // the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the
@@ -241,7 +204,7 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
       sum_local[d] += F;
     }
   }
-  PetscCall(ViewRestore(c->gas_loc, &gas));
+  PetscCall(DMDAFieldRestore(c->gas_loc, &gas));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
@@ -255,8 +218,8 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
     PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
     PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
     PetscCall(VecZeroEntries(c->deposit_loc));
-    PetscCall(ViewGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-    PetscCall(ViewGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
+    PetscCall(DMDAFieldGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
+    PetscCall(DMDAFieldGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
     // The cells' offsets in the ghosted block (DepositOrder: order_local) address the gas and deposit arrays directly,
     // which share that block. The law's void-fraction terms once per cell that holds particles (cell_start holds the
     // cells' ends in the deposit order).
@@ -287,8 +250,8 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
       dc[1] += a[p];
       for (PetscInt d = 0; d < c->dim; ++d) dc[2 + d] += b[3 * p + d];
     }
-    PetscCall(ViewRestore(c->gas_loc, &gas));
-    PetscCall(ViewRestore(c->deposit_loc, &dep));
+    PetscCall(DMDAFieldRestore(c->gas_loc, &gas));
+    PetscCall(DMDAFieldRestore(c->deposit_loc, &dep));
     PetscCall(VecZeroEntries(c->deposit));
     PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit)); // component 0 (volume) is not used
     PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
@@ -353,13 +316,11 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   c->cell_volume     = c->h[0] * c->h[1] * c->h[2];
   c->stats.cells     = (PetscInt64)c->n[0] * c->n[1] * (c->dim == 3 ? c->n[2] : 1);
   const PetscInt dof = 2 + c->dim;
-  if (c->dim == 2)
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], pg.procs[0], pg.procs[1], dof, 1,
-                           own[0].data(), own[1].data(), &c->da));
-  else
-    PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, c->n[0], c->n[1], c->n[2],
-                           pg.procs[0], pg.procs[1], pg.procs[2], dof, 1, own[0].data(), own[1].data(), own[2].data(), &c->da));
-  PetscCall(DMSetUp(c->da));
+  {
+    const DMBoundaryType  bnone[3] = {DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE};
+    const PetscInt *const owned[3] = {own[0].data(), own[1].data(), own[2].data()};
+    PetscCall(DMDACreateLayout(comm, c->dim, bnone, DMDA_STENCIL_BOX, c->n, pg.procs, owned, dof, 1, &c->da));
+  }
   PetscCall(PetscObjectSetName((PetscObject)c->da, "coupling_grid"));
   PetscCall(DMCreateGlobalVector(c->da, &c->deposit));
   PetscCall(DMCreateLocalVector(c->da, &c->deposit_loc));
@@ -383,9 +344,9 @@ PetscErrorCode CouplingSetUp(Coupling *c)
 
 PetscErrorCode CouplingBeforeFluidStep(Coupling *c)
 {
-  DM       da_s, da_v;
-  Vec      eps_f, src_f, beta_f;
-  CellView g, d, e, s, be;
+  DM        da_s, da_v;
+  Vec       eps_f, src_f, beta_f;
+  DMDAField g, d, e, s, be;
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
@@ -394,11 +355,11 @@ PetscErrorCode CouplingBeforeFluidStep(Coupling *c)
   PetscCall(FluidGetMomentumSource(c->fluid, &src_f));
   PetscCall(FluidGetDragCoefficient(c->fluid, &beta_f));
   const PetscReal inv_volume = 1.0 / c->cell_volume;
-  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
-  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
-  PetscCall(ViewGet(da_s, eps_f, PETSC_FALSE, &e));
-  PetscCall(ViewGet(da_s, beta_f, PETSC_FALSE, &be));
-  PetscCall(ViewGet(da_v, src_f, PETSC_FALSE, &s));
+  PetscCall(DMDAFieldGet(c->da, c->gas, PETSC_FALSE, &g));
+  PetscCall(DMDAFieldGet(c->da, c->deposit, PETSC_FALSE, &d));
+  PetscCall(DMDAFieldGet(da_s, eps_f, PETSC_FALSE, &e));
+  PetscCall(DMDAFieldGet(da_s, beta_f, PETSC_FALSE, &be));
+  PetscCall(DMDAFieldGet(da_v, src_f, PETSC_FALSE, &s));
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
     // eq. 5.4-5.5: every fluid cell of the particle cell gets its void fraction; eq. 5.1: the drag reaction is
     // spread by volume, the same per unit volume in each fluid cell (here as beta = B / V and M / V)
@@ -410,11 +371,11 @@ PetscErrorCode CouplingBeforeFluidStep(Coupling *c)
           for (PetscInt a = 0; a < c->dim; ++a) s(ii, jj, kk, a) = d(i, j, k, 2 + a) * inv_volume;
         }
   });
-  PetscCall(ViewRestore(src_f, &s));
-  PetscCall(ViewRestore(beta_f, &be));
-  PetscCall(ViewRestore(eps_f, &e));
-  PetscCall(ViewRestore(c->deposit, &d));
-  PetscCall(ViewRestore(c->gas, &g));
+  PetscCall(DMDAFieldRestore(src_f, &s));
+  PetscCall(DMDAFieldRestore(beta_f, &be));
+  PetscCall(DMDAFieldRestore(eps_f, &e));
+  PetscCall(DMDAFieldRestore(c->deposit, &d));
+  PetscCall(DMDAFieldRestore(c->gas, &g));
   c->until_gas = c->substeps;
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
   PetscFunctionReturn(0);
@@ -424,16 +385,16 @@ PetscErrorCode CouplingAfterFluidStep(Coupling *c)
 {
   DM        da_v;
   Vec       u_f;
-  CellView  g, u, d;
+  DMDAField g, u, d;
   PetscReal sum_local[3] = {0, 0, 0};
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
   PetscCall(FluidGetCellDMs(c->fluid, NULL, &da_v));
   PetscCall(FluidGetCellVelocity(c->fluid, &u_f));
-  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
-  PetscCall(ViewGet(c->da, c->deposit, PETSC_FALSE, &d));
-  PetscCall(ViewGet(da_v, u_f, PETSC_FALSE, &u));
+  PetscCall(DMDAFieldGet(c->da, c->gas, PETSC_FALSE, &g));
+  PetscCall(DMDAFieldGet(c->da, c->deposit, PETSC_FALSE, &d));
+  PetscCall(DMDAFieldGet(da_v, u_f, PETSC_FALSE, &u));
   const PetscReal inv = 1.0 / (PetscReal)(c->ratio[0] * c->ratio[1] * c->ratio[2]);
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
     // seed step 2: the gas velocity of a particle cell is the average over its fluid cells
@@ -447,9 +408,9 @@ PetscErrorCode CouplingAfterFluidStep(Coupling *c)
       sum_local[a] += d(i, j, k, 2 + a) - d(i, j, k, 1) * g(i, j, k, 2 + a); // the gas's drag M - B u (eq. 2.21)
     }
   });
-  PetscCall(ViewRestore(u_f, &u));
-  PetscCall(ViewRestore(c->deposit, &d));
-  PetscCall(ViewRestore(c->gas, &g));
+  PetscCall(DMDAFieldRestore(u_f, &u));
+  PetscCall(DMDAFieldRestore(c->deposit, &d));
+  PetscCall(DMDAFieldRestore(c->gas, &g));
   PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_gas, 3, MPIU_REAL, MPI_SUM, c->comm));
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
@@ -485,14 +446,14 @@ PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
 
 PetscErrorCode CouplingFloorCells(Coupling *c, std::vector<PetscInt64> *fluid_cells, PetscInt first[3])
 {
-  CellView         g;
+  DMDAField        g;
   const PetscInt64 none = INT64_MAX;
   PetscInt64       lo   = none, glo;
   const PetscInt  *fn   = c->grids->fluid.n;
 
   PetscFunctionBeginUser;
   fluid_cells->clear();
-  PetscCall(ViewGet(c->da, c->gas, PETSC_FALSE, &g));
+  PetscCall(DMDAFieldGet(c->da, c->gas, PETSC_FALSE, &g));
   ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
     if (g(i, j, k, 0) > c->eps_min) return;
     lo = PetscMin(lo, (PetscInt64)i + (PetscInt64)c->n[0] * ((PetscInt64)j + (PetscInt64)c->n[1] * (PetscInt64)k));
@@ -501,7 +462,7 @@ PetscErrorCode CouplingFloorCells(Coupling *c, std::vector<PetscInt64> *fluid_ce
         for (PetscInt ii = i * c->ratio[0]; ii < (i + 1) * c->ratio[0]; ++ii)
           fluid_cells->push_back((PetscInt64)ii + (PetscInt64)fn[0] * ((PetscInt64)jj + (PetscInt64)fn[1] * (PetscInt64)kk));
   });
-  PetscCall(ViewRestore(c->gas, &g));
+  PetscCall(DMDAFieldRestore(c->gas, &g));
   PetscCallMPI(MPI_Allreduce(&lo, &glo, 1, MPIU_INT64, MPI_MIN, c->comm));
   if (glo == none) first[0] = first[1] = first[2] = -1;
   else {

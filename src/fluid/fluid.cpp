@@ -13,31 +13,6 @@ namespace fluidbed {
 const char *const FluidModelTypes[]   = {"B", "A", "FluidModel", "FLUID_MODEL_", NULL};
 const char *const FluidLimiterTypes[] = {"upwind", "vanleer", "koren", "minmod", "superbee", "Limiter", "LIMITER_", NULL};
 
-PetscErrorCode FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view)
-{
-  PetscInt dim, dof;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDAGetInfo(dm, &dim, NULL, NULL, NULL, NULL, NULL, NULL, &dof, NULL, NULL, NULL, NULL, NULL));
-  if (ghosted) PetscCall(DMDAGetGhostCorners(dm, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
-  else PetscCall(DMDAGetCorners(dm, &view->s[0], &view->s[1], &view->s[2], &view->m[0], &view->m[1], &view->m[2]));
-  if (dim == 2) {
-    view->s[2] = 0;
-    view->m[2] = 1;
-  }
-  view->dof = dof;
-  PetscCall(VecGetArray(v, &view->a));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FieldRestore(Vec v, FieldView *view)
-{
-  PetscFunctionBeginUser;
-  PetscCall(VecRestoreArray(v, &view->a));
-  view->a = nullptr;
-  PetscFunctionReturn(0);
-}
-
 namespace {
 
 // A DMDA with the fine grid's layout (sizes, process grid, ownership); ghosted: DM_BOUNDARY_GHOSTED on the
@@ -53,13 +28,8 @@ PetscErrorCode CreateLayoutDA(Fluid *f, PetscInt dof, DMDAStencilType st, PetscI
     bt[a] = f->periodic[a] ? DM_BOUNDARY_PERIODIC : (ghosted ? DM_BOUNDARY_GHOSTED : DM_BOUNDARY_NONE);
     if (a < f->dim) procs[a] = (PetscInt)own[a].size();
   }
-  if (f->dim == 2) {
-    PetscCall(DMDACreate2d(f->comm, bt[0], bt[1], st, f->n[0], f->n[1], procs[0], procs[1], dof, sw, own[0].data(), own[1].data(), da));
-  } else {
-    PetscCall(DMDACreate3d(f->comm, bt[0], bt[1], bt[2], st, f->n[0], f->n[1], f->n[2], procs[0], procs[1], procs[2], dof, sw,
-                           own[0].data(), own[1].data(), own[2].data(), da));
-  }
-  PetscCall(DMSetUp(*da));
+  const PetscInt *const owned[3] = {own[0].data(), own[1].data(), own[2].data()};
+  PetscCall(DMDACreateLayout(f->comm, f->dim, bt, st, f->n, procs, owned, dof, sw, da));
   PetscFunctionReturn(0);
 }
 
@@ -123,10 +93,10 @@ PetscErrorCode FluidReadOptions(Fluid *f)
 // Frozen void fraction at time t: uniform, then the packed bed, then the sphere (centre moving with its velocity).
 PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
 {
-  FieldView e;
+  DMDAField e;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  PetscCall(DMDAFieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
     const PetscInt c[3] = {i, j, k};
     PetscReal      x[3], r2 = 0;
@@ -140,7 +110,7 @@ PetscErrorCode SetFrozenVoidFraction(Fluid *f, PetscReal t)
     if (f->has_sphere && r2 < f->eps_sphere[3] * f->eps_sphere[3]) val = f->eps_sphere[4];
     e(i, j, k) = val;
   });
-  PetscCall(FieldRestore(f->eps, &e));
+  PetscCall(DMDAFieldRestore(f->eps, &e));
   PetscFunctionReturn(0);
 }
 
@@ -165,17 +135,17 @@ PetscErrorCode ScatterScalars(Fluid *f)
 // Initial velocity: the superficial velocity divided by the face void fraction on the interior faces.
 PetscErrorCode SetInitialVelocity(Fluid *f)
 {
-  FieldView u, e;
+  DMDAField u, e;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  PetscCall(DMDAFieldGet(f->da_u, f->u, PETSC_FALSE, &u));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
     const PetscInt c[3] = {i, j, k};
     for (int a = 0; a < f->dim; ++a) u(i, j, k, a) = f->initial_velocity[a] / FaceEps(e, c, a);
   });
-  PetscCall(FieldRestore(f->eps_loc, &e));
-  PetscCall(FieldRestore(f->u, &u));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &e));
+  PetscCall(DMDAFieldRestore(f->u, &u));
   PetscFunctionReturn(0);
 }
 
@@ -389,19 +359,19 @@ PetscBool FluidWantsCellsCSV(const Fluid *f)
 
 PetscErrorCode FluidGetCellVelocity(Fluid *f, Vec *velocity)
 {
-  FieldView u, c;
+  DMDAField u, c;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
-  PetscCall(FieldGet(f->da_c, f->cell_u, PETSC_FALSE, &c));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(DMDAFieldGet(f->da_c, f->cell_u, PETSC_FALSE, &c));
   {
     const PetscInt st[3] = {u.stride(0), u.stride(1), u.stride(2)}, dof = u.dof;
     ForEachOwnedOffset(f, u, c, [&](PetscInt p, PetscInt q) {
       for (int a = 0; a < f->dim; ++a) c.a[q * c.dof + a] = 0.5 * (u.a[p * dof + a] + u.a[(p + st[a]) * dof + a]);
     });
   }
-  PetscCall(FieldRestore(f->cell_u, &c));
-  PetscCall(FieldRestore(f->u_loc, &u));
+  PetscCall(DMDAFieldRestore(f->cell_u, &c));
+  PetscCall(DMDAFieldRestore(f->u_loc, &u));
   *velocity = f->cell_u;
   PetscFunctionReturn(0);
 }
@@ -489,19 +459,19 @@ PetscErrorCode FluidWriteCellsCSV(Fluid *f, const char *path)
 {
   constexpr int          kCols = 12; // index, eps, p, u, v, w, ufx, ufy, ufz + padding
   PetscMPIInt            rank, size;
-  FieldView              u, e, p;
+  DMDAField              u, e, p;
   Vec                    cu;
-  FieldView              c;
+  DMDAField              c;
   std::vector<PetscReal> rows;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
   PetscCallMPI(MPI_Comm_size(f->comm, &size));
   PetscCall(FluidGetCellVelocity(f, &cu));
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
-  PetscCall(FieldGet(f->da_p, f->p, PETSC_FALSE, &p));
-  PetscCall(FieldGet(f->da_c, cu, PETSC_FALSE, &c));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  PetscCall(DMDAFieldGet(f->da_p, f->p, PETSC_FALSE, &p));
+  PetscCall(DMDAFieldGet(f->da_c, cu, PETSC_FALSE, &c));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
     PetscReal r[kCols] = {0};
     r[0]               = (PetscReal)(i + f->n[0] * (j + f->n[1] * k)); // natural index, exact below 2^53
@@ -513,10 +483,10 @@ PetscErrorCode FluidWriteCellsCSV(Fluid *f, const char *path)
     }
     rows.insert(rows.end(), r, r + kCols);
   });
-  PetscCall(FieldRestore(cu, &c));
-  PetscCall(FieldRestore(f->p, &p));
-  PetscCall(FieldRestore(f->eps_loc, &e));
-  PetscCall(FieldRestore(f->u_loc, &u));
+  PetscCall(DMDAFieldRestore(cu, &c));
+  PetscCall(DMDAFieldRestore(f->p, &p));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &e));
+  PetscCall(DMDAFieldRestore(f->u_loc, &u));
 
   int              nloc = (int)rows.size();
   std::vector<int> counts(size), displs(size, 0);

@@ -122,14 +122,14 @@ PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
 PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind)
 {
   DM        dm = kind == 1 ? f->da_u : f->da_s;
-  FieldView v, top;
+  DMDAField v, top;
   const int sw = 2;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(dm, loc, PETSC_TRUE, &v));
+  PetscCall(DMDAFieldGet(dm, loc, PETSC_TRUE, &v));
   const bool outlet = kind == 1 && TopIsOutlet(f);
   if (outlet) {
-    PetscCall(FieldGet(f->da_s, f->u_top_loc, PETSC_TRUE, &top));
+    PetscCall(DMDAFieldGet(f->da_s, f->u_top_loc, PETSC_TRUE, &top));
     PetscCheck(SameLayout(v, top), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
   }
   for (int b = 0; b < f->dim; ++b) {
@@ -175,24 +175,24 @@ PetscErrorCode FluidFillGhosts(Fluid *f, Vec loc, PetscInt kind)
       }
     }
   }
-  if (outlet) PetscCall(FieldRestore(f->u_top_loc, &top));
-  PetscCall(FieldRestore(loc, &v));
+  if (outlet) PetscCall(DMDAFieldRestore(f->u_top_loc, &top));
+  PetscCall(DMDAFieldRestore(loc, &v));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidDepsSum(Fluid *f, PetscReal dt, PetscReal *sum)
 {
-  FieldView e, e0;
+  DMDAField e, e0;
   PetscReal loc = 0;
 
   PetscFunctionBeginUser;
   *sum = 0;
   if (!f->deps_dt || !(dt > 0)) PetscFunctionReturn(0);
-  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
-  PetscCall(FieldGet(f->da_p, f->eps_old, PETSC_FALSE, &e0));
+  PetscCall(DMDAFieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  PetscCall(DMDAFieldGet(f->da_p, f->eps_old, PETSC_FALSE, &e0));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) { loc -= f->vol * (e(i, j, k) - e0(i, j, k)) / dt; });
-  PetscCall(FieldRestore(f->eps_old, &e0));
-  PetscCall(FieldRestore(f->eps, &e));
+  PetscCall(DMDAFieldRestore(f->eps_old, &e0));
+  PetscCall(DMDAFieldRestore(f->eps, &e));
   PetscCallMPI(MPI_Allreduce(&loc, sum, 1, MPIU_REAL, MPI_SUM, f->comm));
   PetscFunctionReturn(0);
 }
@@ -204,15 +204,15 @@ PetscReal FluidInletScale(const Fluid *f, PetscReal t)
 
 PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapolate)
 {
-  FieldView u, e;
+  DMDAField u, e;
   PetscReal deps_sum;
 
   PetscFunctionBeginUser;
   PetscCall(FluidDepsSum(f, dt, &deps_sum));
   const PetscReal scale        = FluidInletScale(f, f->time + dt); // the faces of the end of the step
   const PetscReal outflow_rate = scale * f->inflow_rate + deps_sum;
-  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &u));
-  PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+  PetscCall(DMDAFieldGet(f->da_u, f->u, PETSC_FALSE, &u));
+  PetscCall(DMDAFieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
   // lower faces: walls (0) and the bottom inlet (superficial velocity / eps)
   for (int a = 0; a < f->dim; ++a) {
     if (f->periodic[a] || f->xs[a] != 0) continue;
@@ -228,19 +228,19 @@ PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapola
   }
   // top outlet
   if (TopIsOutlet(f) && f->xs[1] + f->xm[1] == f->n[1]) {
-    FieldView      top;
+    DMDAField      top;
     const PetscInt j = f->n[1] - 1;
-    PetscCall(FieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
+    PetscCall(DMDAFieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
     for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
         if (f->bc[FACE_YHI] == FLUID_BC_OUTLET) top(i, j, k) = outflow_rate / (f->area[1] * f->n[0] * f->n[2] * e(i, j, k));
         else if (extrapolate) top(i, j, k) = u(i, j, k, 1); // the predicted velocity, zero normal gradient; corrected by p = 0
         else top(i, j, k) = f->initial_velocity[1] / e(i, j, k);
       }
-    PetscCall(FieldRestore(f->u_top, &top));
+    PetscCall(DMDAFieldRestore(f->u_top, &top));
   }
-  PetscCall(FieldRestore(f->eps, &e));
-  PetscCall(FieldRestore(f->u, &u));
+  PetscCall(DMDAFieldRestore(f->eps, &e));
+  PetscCall(DMDAFieldRestore(f->u, &u));
   PetscFunctionReturn(0);
 }
 
@@ -258,12 +258,12 @@ PetscErrorCode FluidScatterVelocity(Fluid *f)
 
 PetscErrorCode FluidFlowRates(Fluid *f, PetscReal *in, PetscReal *out)
 {
-  FieldView u, e;
+  DMDAField u, e;
   PetscReal loc[2] = {0, 0}, glob[2];
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &u));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &e));
   if (!f->periodic[1]) {
     for (int side = 0; side < 2; ++side) {
       if (side == 0 ? f->xs[1] != 0 : f->xs[1] + f->xm[1] != f->n[1]) continue;
@@ -275,8 +275,8 @@ PetscErrorCode FluidFlowRates(Fluid *f, PetscReal *in, PetscReal *out)
         }
     }
   }
-  PetscCall(FieldRestore(f->eps_loc, &e));
-  PetscCall(FieldRestore(f->u_loc, &u));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &e));
+  PetscCall(DMDAFieldRestore(f->u_loc, &u));
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_REAL, MPI_SUM, f->comm));
   *in  = glob[0];
   *out = glob[1];

@@ -18,19 +18,19 @@ PetscInt64 NaturalIndex(const Fluid *f, PetscInt i, PetscInt j, PetscInt k)
 // The first owned cell (natural ordering) with a non-finite entry of a global vector on the fluid layout.
 PetscErrorCode FirstNonFinite(Fluid *f, DM dm, Vec v, PetscInt64 *cell)
 {
-  FieldView       V;
+  DMDAField       V;
   PetscInt64      first = kNoCell;
   const PetscReal big   = PETSC_MAX_REAL;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(dm, v, PETSC_FALSE, &V));
+  PetscCall(DMDAFieldGet(dm, v, PETSC_FALSE, &V));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
     for (PetscInt c = 0; c < V.dof; ++c) {
       const PetscReal x = V(i, j, k, c);
       if (!(x > -big && x < big)) first = PetscMin(first, NaturalIndex(f, i, j, k));
     }
   });
-  PetscCall(FieldRestore(v, &V));
+  PetscCall(DMDAFieldRestore(v, &V));
   PetscCallMPI(MPI_Allreduce(&first, cell, 1, MPIU_INT64, MPI_MIN, f->comm));
   PetscFunctionReturn(0);
 }
@@ -80,7 +80,7 @@ PetscErrorCode FluidCheckFinite(Fluid *f, PetscBool *finite, PetscInt64 *cell, c
 
 PetscErrorCode FluidLocateMaxSpeed(Fluid *f, PetscInt64 *cell, PetscReal *speed)
 {
-  FieldView U;
+  DMDAField U;
   struct {
     double v;
     int    rank;
@@ -90,7 +90,7 @@ PetscErrorCode FluidLocateMaxSpeed(Fluid *f, PetscInt64 *cell, PetscReal *speed)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
-  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &U));
+  PetscCall(DMDAFieldGet(f->da_u, f->u, PETSC_FALSE, &U));
   ForEachOwnedCell(f, [&](PetscInt i, PetscInt j, PetscInt k) {
     for (PetscInt a = 0; a < U.dof; ++a) {
       const PetscReal s = PetscAbsReal(U(i, j, k, a));
@@ -100,7 +100,7 @@ PetscErrorCode FluidLocateMaxSpeed(Fluid *f, PetscInt64 *cell, PetscReal *speed)
       }
     }
   });
-  PetscCall(FieldRestore(f->u, &U));
+  PetscCall(DMDAFieldRestore(f->u, &U));
   loc.rank = rank;
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, f->comm));
   PetscCallMPI(MPI_Bcast(&at, 1, MPIU_INT64, (PetscMPIInt)glob.rank, f->comm));

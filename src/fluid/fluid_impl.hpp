@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "fluidbed/dmda_field.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/kernels/fluid_flux.hpp"
 
@@ -28,22 +29,7 @@ extern const char *const FluidFaceKeys[FACE_COUNT]; // xlo, xhi, ...
 
 extern const char *const FluidLimiterTypes[];
 
-// A ghosted DMDA array addressed by global (i, j, k, component), in 2D with k = 0; a thin view on the local
-// vector's array.
-struct FieldView {
-  PetscScalar *a = nullptr;
-  PetscInt     s[3]{0, 0, 0}, m[3]{1, 1, 1}, dof = 1;
-
-  PetscScalar &operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt c = 0) const
-  {
-    return a[(((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0])) * dof + c];
-  }
-  PetscScalar &at(const PetscInt p[3], PetscInt c = 0) const { return (*this)(p[0], p[1], p[2], c); }
-  // Offset of cell (i, j, k) counted in cells (entry c of it: a[cell * dof + c]), and the offset between neighbours
-  // along direction d: loops over cells step through the array with these instead of recomputing every index.
-  PetscInt cell(PetscInt i, PetscInt j, PetscInt k) const { return ((k - s[2]) * m[1] + (j - s[1])) * m[0] + (i - s[0]); }
-  PetscInt stride(int d) const { return d == 0 ? 1 : (d == 1 ? m[0] : m[0] * m[1]); }
-};
+// The gas fields are viewed through the shared DMDAField (include/fluidbed/dmda_field.hpp).
 
 struct FluidField {
   DM  dm  = nullptr; // borrowed
@@ -145,10 +131,10 @@ inline void ForEachOwnedCell(const Fluid *f, Fn &&fn)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) fn(i, j, k);
 }
 
-// The same with the cell's offsets pa and pb in the arrays of views A and B (FieldView::cell), stepped along the rows
+// The same with the cell's offsets pa and pb in the arrays of views A and B (DMDAField::cell), stepped along the rows
 // instead of recomputed: fn(pa, pb).
 template <class Fn>
-inline void ForEachOwnedOffset(const Fluid *f, const FieldView &A, const FieldView &B, Fn &&fn)
+inline void ForEachOwnedOffset(const Fluid *f, const DMDAField &A, const DMDAField &B, Fn &&fn)
 {
   for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
     for (PetscInt j = f->xs[1]; j < f->xs[1] + f->xm[1]; ++j) {
@@ -166,9 +152,9 @@ inline void OwnedBox(const Fluid *f, PetscInt lo[3], PetscInt hi[3])
   }
 }
 
-// Calls fn(p) for every cell of the box [lo, hi) (x fastest), p the cell's offset in v's array (FieldView::cell).
+// Calls fn(p) for every cell of the box [lo, hi) (x fastest), p the cell's offset in v's array (DMDAField::cell).
 template <class Fn>
-inline void ForEachCellInBox(const FieldView &v, const PetscInt lo[3], const PetscInt hi[3], Fn &&fn)
+inline void ForEachCellInBox(const DMDAField &v, const PetscInt lo[3], const PetscInt hi[3], Fn &&fn)
 {
   for (PetscInt k = lo[2]; k < hi[2]; ++k)
     for (PetscInt j = lo[1]; j < hi[1]; ++j) {
@@ -229,16 +215,14 @@ inline PetscReal *FluidWork(Fluid *f, std::size_t n)
 }
 
 // Views on local arrays.
-PetscErrorCode FieldGet(DM dm, Vec v, PetscBool ghosted, FieldView *view);
-PetscErrorCode FieldRestore(Vec v, FieldView *view);
 // Whether two views address their cells alike (one cell offset serves both), e.g. da_u and da_s local arrays.
-inline bool SameLayout(const FieldView &x, const FieldView &y)
+inline bool SameLayout(const DMDAField &x, const DMDAField &y)
 {
   for (int d = 0; d < 3; ++d)
     if (x.s[d] != y.s[d] || x.m[d] != y.m[d]) return false;
   return true;
 }
-inline PetscReal FaceEps(const FieldView &eps, const PetscInt c[3], int a)
+inline PetscReal FaceEps(const DMDAField &eps, const PetscInt c[3], int a)
 {
   return 0.5 * (eps(c[0] - (a == 0), c[1] - (a == 1), c[2] - (a == 2)) + eps.at(c));
 }

@@ -14,7 +14,7 @@ namespace {
 // The volume flux eps_f u_b A_b through the lower b-face of each cell at the old void fraction, flux[b * N + p] for
 // the cell at offset p of the ghosted layout of U and E0 (N cells): the owned cells and one layer around them, all
 // that the control volumes of the owned faces touch.
-void FaceFluxes(const Fluid *f, const FieldView &U, const FieldView &E0, PetscInt N, PetscReal *flux)
+void FaceFluxes(const Fluid *f, const DMDAField &U, const DMDAField &E0, PetscInt N, PetscReal *flux)
 {
   const PetscInt dof = U.dof;
   for (int b = 0; b < f->dim; ++b) {
@@ -36,7 +36,7 @@ void FaceFluxes(const Fluid *f, const FieldView &U, const FieldView &E0, PetscIn
 // - b != a: between the a-faces of the cells p and p - a, on their lower b-faces (the lower face of the control
 //   volume of the a-face of cell p).
 template <kernels::Limiter L>
-void ControlVolumeTransport(const Fluid *f, const FieldView &U, const PetscReal *flux, PetscInt N, int a, PetscReal *G)
+void ControlVolumeTransport(const Fluid *f, const DMDAField &U, const PetscReal *flux, PetscInt N, int a, PetscReal *G)
 {
   const PetscInt   dof = U.dof, sa = U.stride(a);
   const PetscReal *u = U.a + a; // u[p * dof]: component a at the cell at offset p
@@ -78,8 +78,8 @@ void ControlVolumeTransport(const Fluid *f, const FieldView &U, const PetscReal 
 
 // The predicted velocity of component a on the faces this rank owns, boundary faces excepted (set by the boundary
 // conditions), from the transport G of ControlVolumeTransport.
-void PredictComponent(const Fluid *f, PetscReal dt, int a, const FieldView &U, const FieldView &E0, const FieldView &E, const FieldView &S,
-                      const FieldView &B, const FieldView &Un, const PetscReal *G, PetscInt N)
+void PredictComponent(const Fluid *f, PetscReal dt, int a, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S,
+                      const DMDAField &B, const DMDAField &Un, const PetscReal *G, PetscInt N)
 {
   const int        dim = (int)f->dim;
   const PetscInt   dof = U.dof, sa = U.stride(a), sdof = S.dof, ssa = S.stride(a);
@@ -126,8 +126,8 @@ void PredictComponent(const Fluid *f, PetscReal dt, int a, const FieldView &U, c
 }
 
 template <kernels::Limiter L>
-void Predict(Fluid *f, PetscReal dt, const FieldView &U, const FieldView &E0, const FieldView &E, const FieldView &S, const FieldView &B,
-             const FieldView &Un)
+void Predict(Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S, const DMDAField &B,
+             const DMDAField &Un)
 {
   const PetscInt N    = U.m[0] * U.m[1] * U.m[2];
   PetscReal     *flux = FluidWork(f, (std::size_t)(2 * f->dim * N)), *G = flux + f->dim * N;
@@ -142,15 +142,15 @@ void Predict(Fluid *f, PetscReal dt, const FieldView &U, const FieldView &E0, co
 
 PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
 {
-  FieldView U, E0, E, S, B, Un;
+  DMDAField U, E0, E, S, B, Un;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
-  PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  PetscCall(FieldGet(f->da_c, f->source_loc, PETSC_TRUE, &S));
-  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
-  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_c, f->source_loc, PETSC_TRUE, &S));
+  PetscCall(DMDAFieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
+  PetscCall(DMDAFieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
   // U, E0, E and B share one ghosted layout (da_u and da_s: the same grid, stencil and ghosts), so one cell offset
   // addresses them all
   PetscCheck(SameLayout(U, E0) && SameLayout(U, E) && SameLayout(U, B), f->comm, PETSC_ERR_PLIB,
@@ -172,25 +172,25 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
     Predict<kernels::Limiter::Superbee>(f, dt, U, E0, E, S, B, Un);
     break;
   }
-  PetscCall(FieldRestore(f->u, &Un));
-  PetscCall(FieldRestore(f->drag_loc, &B));
-  PetscCall(FieldRestore(f->source_loc, &S));
-  PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(FieldRestore(f->eps_old_loc, &E0));
-  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCall(DMDAFieldRestore(f->u, &Un));
+  PetscCall(DMDAFieldRestore(f->drag_loc, &B));
+  PetscCall(DMDAFieldRestore(f->source_loc, &S));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->eps_old_loc, &E0));
+  PetscCall(DMDAFieldRestore(f->u_loc, &U));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
 {
-  FieldView       U, E;
+  DMDAField       U, E;
   PetscReal       loc[2] = {0, 0}, glob[2], max_speed = 0, gmax;
   const PetscReal nu  = f->mu / f->rho;
   const PetscReal psi = kernels::limiter_psi_max(f->limiter);
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   {
     const int                   dim = (int)f->dim;
     const PetscInt              dof = U.dof;
@@ -216,8 +216,8 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
       loc[1]                     = PetscMax(loc[1], r.visc);
     });
   }
-  PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->u_loc, &U));
   // a moving wall drives the cells next to it before they move
   for (int face = 0; face < 2 * f->dim; ++face) {
     if (f->periodic[face / 2] || f->bc[face] != FLUID_BC_NOSLIP) continue;
@@ -246,13 +246,13 @@ PetscErrorCode FluidInletRampRate(Fluid *f, PetscReal *conv)
   // the same on every rank: no reduction once the ramp is over, or without one
   if (!(FluidInletScale(f, f->time) < 1) || f->periodic[1]) PetscFunctionReturn(0);
   if (f->xs[1] == 0) { // the ranks holding the bottom row
-    FieldView e;
+    DMDAField e;
     PetscReal vmax = 0, emin = 1;
     for (PetscReal v : f->inlet) vmax = PetscMax(vmax, PetscAbsReal(v));
-    PetscCall(FieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
+    PetscCall(DMDAFieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
     for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) emin = PetscMin(emin, e(i, 0, k));
-    PetscCall(FieldRestore(f->eps, &e));
+    PetscCall(DMDAFieldRestore(f->eps, &e));
     const PetscReal speed[3] = {0, vmax / emin, 0};
     loc = kernels::explicit_step_rates((int)f->dim, speed, f->h, 0.0, kernels::limiter_psi_max(f->limiter), 1.0 / emin).conv;
   }

@@ -42,12 +42,12 @@ inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal 
 
 PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
 {
-  FieldView E, B;
+  DMDAField E, B;
 
   PetscFunctionBeginUser;
   PetscCall(MatZeroEntries(M));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCheck(SameLayout(E, B), f->comm, PETSC_ERR_PLIB, "the scalar ghosted layouts differ");
   // c_f A / h of every face between two cells of the rows this rank owns, computed once for the two rows that share
   // it: W[a * N + p] for the lower a-face of the cell at offset p
@@ -90,8 +90,8 @@ PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
         PetscCall(MatSetValuesStencil(M, 1, &row, n, col, val, INSERT_VALUES)); // each row once, whole
       }
     }
-  PetscCall(FieldRestore(f->drag_loc, &B));
-  PetscCall(FieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->drag_loc, &B));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
   PetscCall(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
@@ -343,7 +343,7 @@ PetscErrorCode FluidPressureDestroy(Fluid *f)
 
 PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
 {
-  FieldView          U, E, E0, b;
+  DMDAField          U, E, E0, b;
   KSPConvergedReason reason;
   PetscBool          rebuild = PETSC_FALSE, same = PETSC_TRUE;
 
@@ -358,10 +358,10 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
     PetscCall(KSPSetReusePreconditioner(f->ksp, rebuild ? PETSC_FALSE : PETSC_TRUE));
   }
 
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
-  PetscCall(FieldGet(f->da_p, f->rhs, PETSC_FALSE, &b));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
+  PetscCall(DMDAFieldGet(f->da_p, f->rhs, PETSC_FALSE, &b));
   PetscCheck(SameLayout(U, E) && SameLayout(U, E0), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
   {
     const PetscInt st[3] = {U.stride(0), U.stride(1), U.stride(2)};
@@ -370,10 +370,10 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
       b.a[q]               = -(NetOutflow(f, U.a, E.a, U.dof, st, p) + f->vol * deps);
     });
   }
-  PetscCall(FieldRestore(f->rhs, &b));
-  PetscCall(FieldRestore(f->eps_old_loc, &E0));
-  PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCall(DMDAFieldRestore(f->rhs, &b));
+  PetscCall(DMDAFieldRestore(f->eps_old_loc, &E0));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->u_loc, &U));
   if (f->nullspace) PetscCall(MatNullSpaceRemove(f->nullspace, f->rhs));
   PetscCall(VecNorm(f->rhs, NORM_2, &f->stats.rhs_scale));
   f->stats.rhs_scale /= f->vol;
@@ -410,15 +410,15 @@ PetscErrorCode FluidPressureSolve(Fluid *f, PetscReal dt)
 
 PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
 {
-  FieldView U, E, B, Ph, Un;
+  DMDAField U, E, B, Ph, Un;
 
   PetscFunctionBeginUser;
   PetscCall(DMGlobalToLocal(f->da_p, f->phi, INSERT_VALUES, f->phi_loc));
-  PetscCall(FieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  PetscCall(FieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
-  PetscCall(FieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
+  PetscCall(DMDAFieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_p, f->phi_loc, PETSC_TRUE, &Ph));
+  PetscCall(DMDAFieldGet(f->da_u, f->u, PETSC_FALSE, &Un));
   PetscCheck(SameLayout(U, E) && SameLayout(U, B), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
   for (int a = 0; a < f->dim; ++a) {
     // the faces this rank owns, boundary faces excepted (their velocity is given)
@@ -436,9 +436,9 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
       }
   }
   if (f->has_dirichlet && f->xs[1] + f->xm[1] == f->n[1]) {
-    FieldView      top;
+    DMDAField      top;
     const PetscInt j = f->n[1] - 1;
-    PetscCall(FieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
+    PetscCall(DMDAFieldGet(f->da_p, f->u_top, PETSC_FALSE, &top));
     for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) {
         const PetscInt  c[3] = {i, j, k};
@@ -446,25 +446,25 @@ PetscErrorCode FluidCorrect(Fluid *f, PetscReal dt)
           ProjectionCoefficient(f->model == FLUID_MODEL_B ? 1.0 : E.at(c), E.at(c), f->has_drag ? B.at(c) : 0.0, dt, f->rho) / E.at(c);
         top(i, j, k) = U(i, j + 1, k, 1) - coef * (0.0 - Ph.at(c)) / (0.5 * f->h[1]);
       }
-    PetscCall(FieldRestore(f->u_top, &top));
+    PetscCall(DMDAFieldRestore(f->u_top, &top));
   }
-  PetscCall(FieldRestore(f->u, &Un));
-  PetscCall(FieldRestore(f->phi_loc, &Ph));
-  PetscCall(FieldRestore(f->drag_loc, &B));
-  PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCall(DMDAFieldRestore(f->u, &Un));
+  PetscCall(DMDAFieldRestore(f->phi_loc, &Ph));
+  PetscCall(DMDAFieldRestore(f->drag_loc, &B));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->u_loc, &U));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div)
 {
-  FieldView U, E, E0;
+  DMDAField U, E, E0;
   PetscReal loc = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
-  PetscCall(FieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
-  PetscCall(FieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
+  PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCall(DMDAFieldGet(f->da_s, f->eps_old_loc, PETSC_TRUE, &E0));
   PetscCheck(SameLayout(U, E) && SameLayout(U, E0), f->comm, PETSC_ERR_PLIB, "the velocity and scalar ghosted layouts differ");
   {
     const PetscInt st[3] = {U.stride(0), U.stride(1), U.stride(2)};
@@ -473,9 +473,9 @@ PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div)
       loc                  = PetscMax(loc, PetscAbsReal(NetOutflow(f, U.a, E.a, U.dof, st, p) / f->vol + deps));
     });
   }
-  PetscCall(FieldRestore(f->eps_old_loc, &E0));
-  PetscCall(FieldRestore(f->eps_loc, &E));
-  PetscCall(FieldRestore(f->u_loc, &U));
+  PetscCall(DMDAFieldRestore(f->eps_old_loc, &E0));
+  PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscCall(DMDAFieldRestore(f->u_loc, &U));
   PetscCallMPI(MPI_Allreduce(&loc, max_div, 1, MPIU_REAL, MPI_MAX, f->comm));
   PetscFunctionReturn(0);
 }

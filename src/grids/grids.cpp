@@ -1,4 +1,5 @@
 #include "fluidbed/grids.hpp"
+#include "fluidbed/dmda_field.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/grid_ratio.hpp"
 
@@ -36,18 +37,6 @@ void HorizontalProcessGrid(PetscInt dim, const PetscInt n[3], PetscMPIInt size, 
     }
   }
   if (best < 0) procs[0] = procs[1] = procs[2] = PETSC_DECIDE;
-}
-
-PetscErrorCode CreateDMDA(MPI_Comm comm, PetscInt dim, const DMBoundaryType bt[3], DMDAStencilType st, const PetscInt N[3],
-                          const PetscInt procs[3], const PetscInt *const own[3], PetscInt dof, PetscInt sw, DM *da)
-{
-  PetscFunctionBeginUser;
-  if (dim == 2) PetscCall(DMDACreate2d(comm, bt[0], bt[1], st, N[0], N[1], procs[0], procs[1], dof, sw, own[0], own[1], da));
-  else
-    PetscCall(
-      DMDACreate3d(comm, bt[0], bt[1], bt[2], st, N[0], N[1], N[2], procs[0], procs[1], procs[2], dof, sw, own[0], own[1], own[2], da));
-  PetscCall(DMSetUp(*da));
-  PetscFunctionReturn(0);
 }
 
 } // namespace
@@ -149,7 +138,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     PetscCheck(pg.n[0] * pg.n[1] * (dim == 3 ? pg.n[2] : 1) >= nranks, comm, PETSC_ERR_USER_INPUT,
                "the particle grid has %d x %d x %d cells, fewer than the %d ranks: use fewer ranks or smaller particle cells", (int)pg.n[0],
                (int)pg.n[1], (int)(dim == 3 ? pg.n[2] : 1), (int)nranks);
-    PetscCall(CreateDMDA(comm, dim, bnone, DMDA_STENCIL_BOX, pg.n, procs, none, 1, 1, &pg.da_cell));
+    PetscCall(DMDACreateLayout(comm, dim, bnone, DMDA_STENCIL_BOX, pg.n, procs, none, 1, 1, &pg.da_cell));
     PetscCall(PetscObjectSetName((PetscObject)pg.da_cell, "particle_grid"));
     PetscCall(DMDAGetInfo(pg.da_cell, NULL, NULL, NULL, NULL, &size[0], &size[1], &size[2], NULL, NULL, NULL, NULL, NULL, NULL));
     const PetscInt *own[3] = {NULL, NULL, NULL};
@@ -193,10 +182,10 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     }
     const PetscInt *lvp[3] = {lv[0].data(), lv[1].data(), dim == 3 ? lv[2].data() : NULL};
     const PetscInt *lfp[3] = {lf[0].data(), lf[1].data(), dim == 3 ? lf[2].data() : NULL};
-    PetscCall(CreateDMDA(comm, dim, bnone, DMDA_STENCIL_BOX, nv, pg.procs, lvp, 1, 1, &pg.da_vertex));
+    PetscCall(DMDACreateLayout(comm, dim, bnone, DMDA_STENCIL_BOX, nv, pg.procs, lvp, 1, 1, &pg.da_vertex));
     PetscCall(DMDASetUniformCoordinates(pg.da_vertex, dom.lo[0], dom.hi[0], dom.lo[1], dom.hi[1], dom.lo[2], dom.hi[2]));
     PetscCall(PetscObjectSetName((PetscObject)pg.da_vertex, "particle_grid_vertices"));
-    PetscCall(CreateDMDA(comm, dim, bt, DMDA_STENCIL_STAR, fg.n, pg.procs, lfp, 1, 1, &fg.da));
+    PetscCall(DMDACreateLayout(comm, dim, bt, DMDA_STENCIL_STAR, fg.n, pg.procs, lfp, 1, 1, &fg.da));
     PetscCall(PetscObjectSetName((PetscObject)fg.da, "fluid_grid"));
 
     // Check the alignment promised above: every coarse cell's fine block is local.
