@@ -1,6 +1,6 @@
 // The gas phase: options, fields, the step (predictor, pressure, correction) and the fields the coupling uses.
 #include "fluid_impl.hpp"
-#include "fluidbed/io.hpp"
+#include "fluidbed/files.hpp"
 #include "fluidbed/options.hpp"
 
 #include <algorithm>

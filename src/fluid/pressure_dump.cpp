@@ -7,7 +7,7 @@
 // the drag coefficient that made them, in PETSc binary format and natural ordering (i fastest), so that a system
 // dumped on any number of ranks loads on any other; a JSON file next to each says what it is.
 #include "fluid_impl.hpp"
-#include "fluidbed/io.hpp"
+#include "fluidbed/files.hpp"
 #include "fluidbed/options.hpp"
 
 #include <petscdmda.h>
