@@ -216,8 +216,8 @@ def points(maps, ci):
                 for method, cell in (("two", 0.43), ("single", 4)):
                     pts.append({"map": "jet_sub", "method": method, "cell_d": cell, "dt_factor": REFERENCE["dt_factor"], "jet": jet, "substeps": sub})
     if "3d" in maps:  # the most telling points on the seed's own 3D grids
-        for g3, method, dt in (("fine", "two", 0.1), ("fine", "single", 0.1), ("coarse", "two", 0.1), ("coarse", "single", 0.1),
-                               ("coarse", "two", 0.5), ("coarse", "two", 1.0)):
+        for g3, method, dt in (("fine", "two", 0.1), ("fine", "two", 0.05), ("fine", "single", 0.1), ("coarse", "two", 0.1),
+                               ("coarse", "single", 0.1), ("coarse", "two", 0.5), ("coarse", "two", 1.0)):
             pts.append({"map": "3d", "grid3d": g3, "method": method, "dt_factor": dt, "jet": JET_V, "substeps": 1})
     if "closed" in maps:
         for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
