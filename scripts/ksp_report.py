@@ -138,7 +138,7 @@ def main():
         data["spectra"] = [s for s in p["spectra"] if not want_s or s["scene"] in want_s]
         data["summary"] = []  # the iterations-against-size figure is drawn below, over all parts
         for f in kc.plots(data, tmp):
-            dst = os.path.join(args.figures, "ksp_" + os.path.basename(f))
+            dst = os.path.join(args.figures, "ksp_" + re.sub(r"[^A-Za-z0-9_.-]", "_", os.path.basename(f).replace("@", "_t")))
             shutil.move(f, dst)
             made.append(dst)
     shutil.rmtree(tmp, ignore_errors=True)
@@ -177,7 +177,7 @@ def main():
                 by.setdefault(s["solver"], []).append((s["coef_contrast"], cond, s["cells"]))
         for i, (solver, pts) in enumerate(sorted(by.items())):
             pts.sort()
-            ax.loglog([q[0] for q in pts], [q[1] for q in pts], "o", ms=4, label=solver, color="C%d" % (i % 10),
+            ax.loglog([q[0] for q in pts], [q[1] for q in pts], ls="none", ms=4, label=solver, color="C%d" % (i % 10),
                       marker="osD^v<>*Xp"[(i // 10) % 10])
         ax.set_xlabel("face-coefficient contrast max c_f / min c_f")
         ax.set_ylabel("cond(P^-1 A) (dense where small, else SLEPc)")
