@@ -13,7 +13,7 @@ count are kept, which --merge cannot do), and writes
   the face-coefficient contrast, and the cost per simulated second per solver.
 
 Usage: scripts/ksp_report.py bench/ksp/cmp_*/ksp_compare.json [--csv docs/ksp] [--figures docs/figures]
-[--history SCENE,...] [--spectrum SCENE,...]"""
+[--history SCENE,...] [--spectrum SCENE,...] [--cost SCENE,...]"""
 import argparse
 import csv
 import json
@@ -63,6 +63,7 @@ def main():
     ap.add_argument("--figures", default="docs/figures")
     ap.add_argument("--history", default="", help="scenes whose convergence history is drawn (default all)")
     ap.add_argument("--spectrum", default="", help="scenes whose spectra are drawn (default all)")
+    ap.add_argument("--cost", default="", help="scenes in the cost figure (default all but refinement families); the main solvers only")
     args = ap.parse_args()
     parts = load_parts(args.results)
     os.makedirs(args.csv, exist_ok=True)
@@ -73,7 +74,7 @@ def main():
     for p in parts:
         for k, v in sorted(p.get("load", {}).items()):
             runs.append(dict(part=p["_name"], date=p.get("date"), ranks=int(k), load_before=float(v[0]), load_after=float(v[1]),
-                             argv=" ".join(p.get("argv", []))))
+                             argv=re.sub(r"\S*/(bench/|scripts/)", r"\1", " ".join(p.get("argv", [])))))  # paths from the repository root
     write_csv(os.path.join(args.csv, "runs.csv"), runs, ["part", "date", "ranks", "load_before", "load_after", "argv"])
 
     # systems (one line per scene and step, smallest rank count)
@@ -147,7 +148,7 @@ def main():
     fams = {}
     for r in solvers:
         m = re.match(r"(.*)_r(\d+)$", r["scene"])
-        if m and r["ranks"] == 1 and r["its_zero"] is not None:
+        if m and r["ranks"] == 1 and r["its_zero"] is not None and r["converged"]:  # false convergence (BiCGStab) left out
             fams.setdefault(m.group(1), {}).setdefault(r["solver"], []).append((r["cells"], r["its_zero"]))
     if fams:
         fig, axes = plt.subplots(1, len(fams), figsize=(5.5 * len(fams), 4.5), squeeze=False)
@@ -199,11 +200,13 @@ def main():
 
     # cost per simulated second (1 rank, rebuild every step, and the kept preconditioner) per scene
     scenes = sorted(set((r["cells"], r["scene"]) for r in solvers if r["ranks"] == 1))
-    big = [sc for sc in scenes if not re.search(r"_r\d+$", sc[1])]
+    want_c = [x for x in args.cost.split(",") if x]
+    big = [sc for sc in scenes if (sc[1] in want_c if want_c else not re.search(r"_r\d+$", sc[1]))]
     if big:
         fig, axes = plt.subplots(len(big), 1, figsize=(9, 2.2 * len(big) + 0.5), squeeze=False)
         for ax, (cells, scene) in zip(axes[:, 0], big):
-            rs = sorted((r for r in solvers if r["scene"] == scene and r["ranks"] == 1 and r["converged"]), key=lambda r: r["cost_rebuild"])
+            rs = sorted((r for r in solvers if r["scene"] == scene and r["ranks"] == 1 and r["converged"] and r["solver"] in kc.PRESETS["main"]),
+                        key=lambda r: r["cost_rebuild"])
             y = np.arange(len(rs))
             ax.barh(y - 0.2, [r["cost_rebuild"] for r in rs], 0.4, label="PC rebuilt every step")
             ax.barh(y + 0.2, [r.get("cost_reuse") or 0 for r in rs], 0.4, label="PC kept over the dumped steps")
