@@ -674,7 +674,7 @@ class Worker:
                 if ns:
                     ns.remove(y)
                 Pinv[:, j] = y.getArray()
-            Ad = self.dense(A)
+            Ad = self.dense(sysm["A"])  # the AIJ copy: a structured (hypre) matrix has no CSR rows to read
             asym = np.abs(Pinv - Pinv.T).max() / np.abs(Pinv).max()
             out["dense_pc_asymmetry"] = float(asym)
             if asym < 1e-8:

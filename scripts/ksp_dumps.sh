@@ -9,6 +9,8 @@
 #   frozen_a     gas-only scenes with a frozen packed bed and a rising bubble (a moving sphere of high void
 #                fraction), model A and B: the 2D bed's box and the seed's 175 x 200 x 5 grid. Coupled runs are
 #                model B only (the coupling implements the seed's model B), so model A's operator comes from these.
+#   bubble_refine the frozen 2D bed and bubble of frozen_a, model A, on 33 x 60, 66 x 120, 132 x 240 and 264 x 480
+#                cells (gas only, 4 steps each): iterations against grid size at a fixed void-fraction field, cheap
 #   bed750       the 750 um two-grid bed (examples/twogrid_750_jet1_u301.opts) on its 175 x 200 x 5 grid from a
 #                settled bed ($FLUIDBED_SETTLED750, a particles.csv): steps 1-8 and 301-308 (the jet entering the
 #                packed bed). The full jet through the packed bed's bottom cells (45.3 m/s / eps = 105 m/s) needs a gas
@@ -64,6 +66,15 @@ scene_frozen_a() {
     run "frozen3d_$m" "${RANKS:-1}" -options_file "$ROOT/examples/fluid/jet_empty_bed.opts" -fluid_model "$m" \
       -fluid_eps_packed_bed 0.06,0.4 -fluid_eps_sphere 0.0282,0.03,0.002475,0.008,0.9 -fluid_eps_sphere_velocity 0,0.3,0 \
       -max_steps 6 -fluid_p_dump_steps 1-7
+  done
+}
+
+scene_bubble_refine() {
+  local r
+  for r in 1 2 4 8; do
+    run "bubble2d_r$r" "${RANKS:-1}" -options_file "$ROOT/examples/jetted_bed_2d.opts" -particles 0 -fluid_model A \
+      -grid_nx $((33 * r)) -grid_ny $((60 * r)) -pgrid_ratio $((3 * r)),$((2 * r)) -fluid_eps_packed_bed 0.06,0.42 \
+      -fluid_eps_sphere 0.0165,0.03,0,0.006,0.9 -fluid_eps_sphere_velocity 0,0.3,0 -max_steps 4 -fluid_p_dump_steps 1-5
   done
 }
 
