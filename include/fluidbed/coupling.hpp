@@ -28,7 +28,6 @@
 #include "fluidbed/dem.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
-#include "fluidbed/kernels/drag_common.hpp"
 
 namespace fluidbed {
 
@@ -73,14 +72,5 @@ PetscErrorCode CouplingSetSubsteps(Coupling *coupling, PetscInt substeps);
 PetscErrorCode CouplingWriteHDF5(Coupling *coupling, PetscViewer viewer);
 PetscErrorCode CouplingReadHDF5(Coupling *coupling, PetscViewer viewer);
 PetscErrorCode CouplingDestroy(Coupling **coupling);
-
-// Drag laws by name (-drag_model): K = beta / (1 - eps), N s / m^4 (kernels/drag_*.hpp).
-// A law as its pair (kernels/drag_common.hpp): the terms of a cell's void fraction, then K of a particle in it.
-struct DragLaw {
-  kernels::DragCellTerms (*cell)(double eps)                                     = nullptr;
-  double (*k)(const kernels::DragCellTerms &terms, const kernels::DragInput &in) = nullptr;
-};
-PetscErrorCode           DragLawGet(const char *name, DragLaw *law);
-extern const char *const DragLawNames; // "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice"
 
 } // namespace fluidbed

@@ -2,6 +2,7 @@
 // calls the drag kernel, restores; the drag laws live in kernels/drag_*.hpp.
 #include "fluidbed/coupling.hpp"
 #include "fluidbed/dmda_field.hpp"
+#include "fluidbed/drag_laws.hpp"
 #include "fluidbed/options.hpp"
 
 #include <petscviewerhdf5.h>
@@ -290,9 +291,12 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
     "Model B particle drag = eq. 2.18 / eps, so that a packed bed's pressure drop is Ergun's and U_mf is eq. 3.1's (false: eq. 2.18 as "
     "printed, the Model A force)",
     &c->divide_eps, NULL));
-  PetscCall(OptionsString(PetscOptionsObject, "-drag_model",
-                          "Drag law: ergun_wenyu (the seed's blend, eq. 2.11-2.14), gidaspow, wen_yu, ergun, di_felice",
-                          "ergun_wenyu, gidaspow, wen_yu, ergun, di_felice", c->drag_name, sizeof(c->drag_name), NULL));
+  {
+    PetscFunctionList laws;
+    PetscCall(DragLawList(&laws));
+    PetscCall(PetscOptionsFList("-drag_model", "Drag law (ergun_wenyu: the seed's Ergun / Wen-Yu blend, eq. 2.11-2.14)", "DragLawRegister",
+                                laws, c->drag_name, c->drag_name, sizeof(c->drag_name), NULL));
+  }
   PetscOptionsEnd();
   PetscCall(DragLawGet(c->drag_name, &c->drag));
   PetscCheck(FluidIsModelB(fluid), comm, PETSC_ERR_USER_INPUT, "the coupling implements the seed's Model B: use -fluid_model B");
