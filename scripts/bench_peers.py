@@ -61,6 +61,17 @@ TOL = {
 # Scene and contact parameters
 
 
+
+def common_tail():
+    """The lines both peers' inputs end with: gravity, the integrator and the thermo output the results are read from."""
+    return ["fix gravity all gravity %.10g vector 0.0 -1.0 0.0" % G,
+            "fix integrate all nve/sphere",
+            "compute rot all erotate/sphere",
+            "compute contacts all contact/atom",
+            "compute contacts_sum all reduce sum c_contacts",
+            "thermo_style custom step atoms ke c_rot c_contacts_sum",
+            "thermo_modify norm no"]
+
 def read_opts(path):
     """An options file as {name: value} (the last occurrence wins, as in PETSc); comments and blank lines skipped."""
     opts = {}
@@ -321,13 +332,7 @@ def lammps_input(p, data, warmup, steps, px, pz, skin, dump):
          "pair_coeff * *"]
     for a, name in enumerate("xyz"):
         L.append("fix wall_%s all wall/gran hooke/history %s %splane 0.0 %s" % (name, wall, name, g(p["box"][a])))
-    L += ["fix gravity all gravity %s vector 0.0 -1.0 0.0" % g(G),
-          "fix integrate all nve/sphere",
-          "compute rot all erotate/sphere",
-          "compute contacts all contact/atom",
-          "compute contacts_sum all reduce sum c_contacts",
-          "thermo_style custom step atoms ke c_rot c_contacts_sum",
-          "thermo_modify norm no",
+    L += common_tail() + [
           "timestep %s" % repr(p["dt"])]
     if warmup > 0:
         L += ["thermo %d" % warmup, "run %d" % warmup]
@@ -360,13 +365,7 @@ def liggghts_input(p, data, warmup, steps, px, pz, skin, dump):
         for side, pos in (("lo", 0.0), ("hi", p["box"][a])):
             L.append("fix wall_%s%s all wall/gran model hooke/stiffness tangential history primitive type 2 %splane %s"
                      % (name, side, name, g(pos)))
-    L += ["fix gravity all gravity %s vector 0.0 -1.0 0.0" % g(G),
-          "fix integrate all nve/sphere",
-          "compute rot all erotate/sphere",
-          "compute contacts all contact/atom",
-          "compute contacts_sum all reduce sum c_contacts",
-          "thermo_style custom step atoms ke c_rot c_contacts_sum",
-          "thermo_modify norm no"]
+    L += common_tail()
     if warmup > 0:
         L += ["thermo %d" % warmup, "run %d" % warmup]
     L += ["thermo %d" % steps, "run %d" % steps,

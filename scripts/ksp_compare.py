@@ -915,6 +915,13 @@ def plots(data, out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     made = []
+
+    def save(fig, path):
+        fig.tight_layout()
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        return path
+
     # convergence histories: one figure per scene (first step, 1 rank, zero guess)
     scenes = sorted(set(h["scene"] for h in data["histories"] if h["ranks"] == min(data["ranks"])))
     for scene in scenes:
@@ -927,11 +934,7 @@ def plots(data, out):
         ax.axhline(1e-8, color="k", lw=0.5, ls=":")
         ax.set_xscale("symlog", linthresh=30)
         ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
-        path = os.path.join(out, "history_%s.png" % scene)
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        made.append(path)
+        made.append(save(fig, os.path.join(out, "history_%s.png" % scene)))
     # iterations against grid size: scenes grouped into families (a trailing _r<k> is a refinement of one scene)
     fam = {}
     for r in data["summary"]:
@@ -950,11 +953,7 @@ def plots(data, out):
         ax.set_ylabel("iterations to 1e-8 (zero guess, mean over steps)")
         ax.set_title("%s: iterations against grid size" % f, fontsize=9)
         ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
-        path = os.path.join(out, "iterations_vs_cells_%s.png" % f)
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        made.append(path)
+        made.append(save(fig, os.path.join(out, "iterations_vs_cells_%s.png" % f)))
     # spectra: eigenvalues of the preconditioned operator per PC (dense where available, SLEPc extremes otherwise)
     for scene in sorted(set(s["scene"] for s in data["spectra"])):
         ss = [s for s in data["spectra"] if s["scene"] == scene]
@@ -971,11 +970,7 @@ def plots(data, out):
         ax.set_xscale("log")
         ax.set_xlabel("eigenvalues of P^-1 A (| dense, x SLEPc extremes)")
         ax.set_title("%s, step %d: spectra of the preconditioned operator" % (scene, ss[0]["step"]), fontsize=9)
-        fig.tight_layout()
-        path = os.path.join(out, "spectrum_%s.png" % scene)
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        made.append(path)
+        made.append(save(fig, os.path.join(out, "spectrum_%s.png" % scene)))
     return made
 
 
