@@ -146,23 +146,36 @@ const char *OptionName(PetscOptionItems *PetscOptionsObject, const char name[])
   return full.c_str();
 }
 
+// A given option has a value that converts to T: else an input error naming the option, what it is not (kind) and what
+// is allowed.
+template <class T>
+PetscErrorCode CheckGivenValue(PetscOptionItems *PetscOptionsObject, const char name[], PetscErrorCode (*convert)(const char[], T *),
+                               const char *kind, const std::string &allowed)
+{
+  PetscBool   given;
+  const char *raw;
+  bool        ok = true;
+
+  PetscFunctionBeginUser;
+  PetscCall(RawValue(PetscOptionsObject, name, &raw, &given));
+  PetscCheck(!given || !Empty(raw), PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s is given without a value; allowed: %s",
+             OptionName(PetscOptionsObject, name), allowed.c_str());
+  if (given) PetscCall(Converts<T>(convert, raw, &ok));
+  PetscCheck(ok, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not %s; allowed: %s", OptionName(PetscOptionsObject, name), raw,
+             kind, allowed.c_str());
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char name[], const char text[], const char unit[], RealRange range,
                            PetscReal *value, PetscBool *set)
 {
   const std::string rs      = FormatRange(range);
   const std::string help    = HelpText(text, unit, range);
   const std::string allowed = AllowedReal(range, unit);
-  PetscBool         flg     = PETSC_FALSE, given;
-  const char       *raw;
-  bool              ok = true;
+  PetscBool         flg     = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(RawValue(PetscOptionsObject, name, &raw, &given));
-  PetscCheck(!given || !Empty(raw), PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s is given without a value; allowed: %s",
-             OptionName(PetscOptionsObject, name), allowed.c_str());
-  if (given) PetscCall(Converts<PetscReal>(PetscOptionsStringToReal, raw, &ok));
-  PetscCheck(ok, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not a number; allowed: %s", OptionName(PetscOptionsObject, name),
-             raw, allowed.c_str());
+  PetscCall(CheckGivenValue<PetscReal>(PetscOptionsObject, name, PetscOptionsStringToReal, "a number", allowed));
   PetscCall(PetscOptionsReal_Private(PetscOptionsObject, name, help.c_str(), "", *value, value, &flg));
   PetscCheck(InRange(range, *value), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s = %.6g is out of range: allowed %s%s%s",
              OptionName(PetscOptionsObject, name), (double)*value, rs.c_str(), unit && unit[0] ? " " : "", unit ? unit : "");
@@ -176,17 +189,10 @@ PetscErrorCode OptionsInt(PetscOptionItems *PetscOptionsObject, const char name[
   const std::string rs      = FormatIntRange(lo, hi);
   const std::string help    = std::string(text) + ", range " + rs;
   const std::string allowed = AllowedInt(lo, hi);
-  PetscBool         flg     = PETSC_FALSE, given;
-  const char       *raw;
-  bool              ok = true;
+  PetscBool         flg     = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(RawValue(PetscOptionsObject, name, &raw, &given));
-  PetscCheck(!given || !Empty(raw), PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s is given without a value; allowed: %s",
-             OptionName(PetscOptionsObject, name), allowed.c_str());
-  if (given) PetscCall(Converts<PetscInt>(PetscOptionsStringToInt, raw, &ok));
-  PetscCheck(ok, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT, "%s %s is not a whole number; allowed: %s",
-             OptionName(PetscOptionsObject, name), raw, allowed.c_str());
+  PetscCall(CheckGivenValue<PetscInt>(PetscOptionsObject, name, PetscOptionsStringToInt, "a whole number", allowed));
   PetscCall(PetscOptionsInt_Private(PetscOptionsObject, name, help.c_str(), "", *value, value, &flg, PETSC_MIN_INT, PETSC_MAX_INT));
   PetscCheck(*value >= lo && *value <= hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "%s = %" PetscInt_FMT " is out of range: allowed %s", OptionName(PetscOptionsObject, name), *value, rs.c_str());
