@@ -185,7 +185,10 @@ def reference_of(m, results, ref):
     """What a point is judged against: the reference for the cell_dt map and for the seed's jet at one gas step per DEM
     step; a jet_sub point with substeps against the same method and jet at one substep (whether substepping changes
     the answer), and at another jet with one substep nothing (only the absolute measures: overlap, cells at the floor),
-    since a faster jet makes another bed."""
+    since a faster jet makes another bed; a 3D point against the 3D fine grid at t_cr/20 (when it has run)."""
+    if m["map"] == "3d":  # against the 3D reference, the fine grid at t_cr/20 (a 2D bed is another bed)
+        r3 = results.get(("3d", "3d_fine_two_dt0.05"))
+        return r3 if r3 and r3.get("status") != "stopped" and m["id"] != r3["id"] else None
     if m["map"] != "jet_sub":
         return ref
     if m["substeps"] > 1:
