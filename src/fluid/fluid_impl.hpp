@@ -100,6 +100,11 @@ struct Fluid {
   MatNullSpace nullspace  = nullptr;
   KSP          ksp        = nullptr;
   PetscInt     assemblies = 0, since_pc = 0;
+  // Where each entry of the pressure operator sits in an AIJ matrix's value arrays, in the order the assembly makes
+  // them (pressure.cpp, FluidAssembleOperator): >= 0 in the diagonal block, -1 - q at q in the off-diagonal block.
+  // Found once by an assembly of tags; later assemblies write the values in place (the pattern never changes).
+  std::vector<PetscInt> a_pos;
+  PetscBool             a_direct = PETSC_FALSE;
 
   // -fluid_p_dump_*: the pressure systems of selected gas steps written for offline solver studies
   // (scripts/ksp_compare.py); pressure_dump.cpp. Off unless an interval or a list of steps is given.

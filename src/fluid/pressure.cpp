@@ -40,12 +40,16 @@ inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal 
 
 } // namespace
 
-PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
+namespace {
+
+// The operator's rows (eq. 2.21's projection: the face coefficients c_f A_f / h_f of docs/fluid.md): calls
+// row(stencil of the row, n, stencils of its columns, values), each owned row once and whole, the diagonal last.
+template <class Row>
+PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
 {
   DMDAField E, B;
 
   PetscFunctionBeginUser;
-  PetscCall(MatZeroEntries(M));
   PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
   PetscCall(DMDAFieldGet(f->da_s, f->drag_loc, PETSC_TRUE, &B));
   PetscCheck(SameLayout(E, B), f->comm, PETSC_ERR_PLIB, "the scalar ghosted layouts differ");
@@ -66,7 +70,7 @@ PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
       PetscInt p = E.cell(f->xs[0], j, k);
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i, ++p) {
         const PetscInt c[3] = {i, j, k};
-        MatStencil     row  = {k, j, i, 0}, col[7];
+        MatStencil     rs   = {k, j, i, 0}, col[7];
         PetscScalar    val[7], diag = 0;
         PetscInt       n = 0;
         for (int a = 0; a < f->dim; ++a) {
@@ -85,15 +89,118 @@ PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
             diag += coef;
           }
         }
-        col[n]   = row;
+        col[n]   = rs;
         val[n++] = diag;
-        PetscCall(MatSetValuesStencil(M, 1, &row, n, col, val, INSERT_VALUES)); // each row once, whole
+        PetscCall(row(rs, n, col, val));
       }
     }
   PetscCall(DMDAFieldRestore(f->drag_loc, &B));
   PetscCall(DMDAFieldRestore(f->eps_loc, &E));
+  PetscFunctionReturn(0);
+}
+
+// The value arrays of an AIJ matrix: the diagonal block's and (MPIAIJ) the off-diagonal block's, with their lengths.
+struct AIJValues {
+  Mat          d = nullptr, o = nullptr;
+  PetscScalar *ad = nullptr, *ao = nullptr;
+  PetscInt     nd = 0, no = 0;
+};
+PetscErrorCode AIJValuesGet(Mat M, AIJValues *v)
+{
+  PetscBool mpi;
+  MatInfo   info;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)M, MATMPIAIJ, &mpi));
+  if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(M, &v->d, &v->o, NULL));
+  else v->d = M;
+  PetscCall(MatSeqAIJGetArray(v->d, &v->ad));
+  PetscCall(MatGetInfo(v->d, MAT_LOCAL, &info));
+  v->nd = (PetscInt)info.nz_used;
+  if (v->o) {
+    PetscCall(MatSeqAIJGetArray(v->o, &v->ao));
+    PetscCall(MatGetInfo(v->o, MAT_LOCAL, &info));
+    v->no = (PetscInt)info.nz_used;
+  }
+  PetscFunctionReturn(0);
+}
+PetscErrorCode AIJValuesRestore(Mat M, AIJValues *v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatSeqAIJRestoreArray(v->d, &v->ad));
+  if (v->o) PetscCall(MatSeqAIJRestoreArray(v->o, &v->ao));
+  PetscCall(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY)); // nothing to communicate: the operator's state advances, so
+  PetscCall(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));   // the solver sees the new values
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode AssembleThroughStencils(Fluid *f, Mat M, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatZeroEntries(M));
+  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *val) {
+    return MatSetValuesStencil(M, 1, &r, n, col, val, INSERT_VALUES); // each row once, whole
+  }));
   PetscCall(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+// For f->A in AIJ: finds where each entry lands (an assembly whose values are the entries' numbers), and keeps the
+// direct path only when every place of the pattern is an entry's, once.
+PetscErrorCode FindOperatorPositions(Fluid *f, PetscReal dt)
+{
+  PetscInt  count = 0;
+  AIJValues v;
+  PetscBool aij;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)f->A, &aij, MATSEQAIJ, MATMPIAIJ, ""));
+  if (!aij) PetscFunctionReturn(0);
+  PetscCall(MatZeroEntries(f->A));
+  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *) {
+    PetscScalar tag[7];
+    for (PetscInt e = 0; e < n; ++e) tag[e] = (PetscScalar)(++count);
+    return MatSetValuesStencil(f->A, 1, &r, n, col, tag, INSERT_VALUES);
+  }));
+  PetscCall(MatAssemblyBegin(f->A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->A, MAT_FINAL_ASSEMBLY));
+  f->a_pos.assign((std::size_t)count, PETSC_MIN_INT);
+  PetscCall(AIJValuesGet(f->A, &v));
+  bool ok = v.nd + v.no == count;
+  for (int blk = 0; blk < 2 && ok; ++blk) {
+    const PetscScalar *a = blk ? v.ao : v.ad;
+    for (PetscInt q = 0; q < (blk ? v.no : v.nd) && ok; ++q) {
+      const PetscInt e = (PetscInt)PetscRealPart(a[q]) - 1;
+      ok               = e >= 0 && e < count && f->a_pos[(std::size_t)e] == PETSC_MIN_INT;
+      if (ok) f->a_pos[(std::size_t)e] = blk ? -1 - q : q;
+    }
+  }
+  PetscCall(AIJValuesRestore(f->A, &v));
+  f->a_direct = ok ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (M != f->A) PetscFunctionReturn(AssembleThroughStencils(f, M, dt)); // a copy (the pressure dumps)
+  if (!f->a_direct && f->a_pos.empty()) PetscCall(FindOperatorPositions(f, dt));
+  if (!f->a_direct) PetscFunctionReturn(AssembleThroughStencils(f, M, dt));
+  // the values straight into the arrays, each place the same entry as MatSetValuesStencil would give it
+  AIJValues v;
+  PetscInt  e = 0;
+  PetscCall(AIJValuesGet(M, &v));
+  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &, PetscInt n, const MatStencil *, const PetscScalar *val) {
+    for (PetscInt k = 0; k < n; ++k, ++e) {
+      const PetscInt q                  = f->a_pos[(std::size_t)e];
+      (q >= 0 ? v.ad[q] : v.ao[-1 - q]) = val[k];
+    }
+    return (PetscErrorCode)0;
+  }));
+  PetscCall(AIJValuesRestore(M, &v));
   PetscFunctionReturn(0);
 }
 
