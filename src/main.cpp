@@ -152,8 +152,8 @@ int main(int argc, char **argv)
   int                  status = fluidbed::EXIT_OK;
   const PetscErrorCode ierr   = Run(&status);
   if (ierr && (IsInputError(ierr) || IsOutputError(ierr))) {
-    status           = IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
-    PetscBool all    = PETSC_FALSE;
+    status        = IsOutputError(ierr) ? fluidbed::EXIT_OUTPUT : fluidbed::EXIT_INPUT;
+    PetscBool all = PETSC_FALSE;
     PetscCall(AllRanksStopped(agree, 10.0, &all));
     if (all) { // finish cleanly with a nonzero status
       PetscCallMPI(MPI_Comm_free(&agree));
