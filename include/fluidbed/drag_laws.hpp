@@ -6,8 +6,6 @@
 
 #include <petscsys.h>
 
-#include <string>
-
 #include "fluidbed/kernels/drag_common.hpp"
 
 namespace fluidbed {
@@ -24,7 +22,5 @@ PetscErrorCode DragLawRegister(const char *name, DragLawMaker maker);
 PetscErrorCode DragLawList(PetscFunctionList *list);
 // The law of that name; an unknown name is an input error that lists the registered ones.
 PetscErrorCode DragLawGet(const char *name, DragLaw *law);
-// The registered names, comma-separated, in registration order (help text and error messages).
-const std::string &DragLawNames();
 
 } // namespace fluidbed

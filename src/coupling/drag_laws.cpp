@@ -5,12 +5,14 @@
 #include "fluidbed/kernels/drag_huilin_gidaspow.hpp"
 #include "fluidbed/kernels/drag_wen_yu.hpp"
 
+#include <string>
+
 namespace fluidbed {
 
 namespace {
 
 PetscFunctionList drag_laws = NULL;
-std::string       drag_names;
+std::string       drag_names; // the registered names, comma-separated, for the error of an unknown one
 bool              builtins = false;
 
 // Each law registered as a function that returns its pair (PetscFunctionList holds plain function pointers).
@@ -57,11 +59,6 @@ PetscErrorCode DragLawList(PetscFunctionList *list)
   PetscCall(RegisterBuiltins());
   *list = drag_laws;
   PetscFunctionReturn(0);
-}
-
-const std::string &DragLawNames()
-{
-  return drag_names;
 }
 
 PetscErrorCode DragLawGet(const char *name, DragLaw *law)

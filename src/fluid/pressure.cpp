@@ -38,10 +38,6 @@ inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal 
   return out;
 }
 
-} // namespace
-
-namespace {
-
 // The operator's rows (eq. 2.21's projection: the face coefficients c_f A_f / h_f of docs/fluid.md): calls
 // row(stencil of the row, n, stencils of its columns, values), each owned row once and whole, the diagonal last.
 template <class Row>

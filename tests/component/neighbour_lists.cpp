@@ -31,31 +31,9 @@ struct Body {
   PetscReal  x[3], r;
 };
 
-// Every rank's local bodies, on every rank.
-PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std::vector<Body> *all)
-{
-  PetscMPIInt size;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  std::vector<PetscReal> mine;
-  for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &b = dem.bodies[(std::size_t)i];
-    mine.insert(mine.end(), {(PetscReal)dem.body_id[(std::size_t)i], b.x.x, b.x.y, b.x.z, b.r});
-  }
-  PetscMPIInt              n = (PetscMPIInt)mine.size();
-  std::vector<PetscMPIInt> counts((std::size_t)size), displs((std::size_t)size, 0);
-  PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
-  for (PetscMPIInt r = 1; r < size; ++r) displs[(std::size_t)r] = displs[(std::size_t)r - 1] + counts[(std::size_t)r - 1];
-  std::vector<PetscReal> flat((std::size_t)(displs.back() + counts.back()));
-  PetscCallMPI(MPI_Allgatherv(mine.data(), n, MPIU_REAL, flat.data(), counts.data(), displs.data(), MPIU_REAL, comm));
-  all->clear();
-  for (std::size_t k = 0; k < flat.size(); k += 5)
-    all->push_back({(PetscInt64)flat[k], {flat[k + 1], flat[k + 2], flat[k + 3]}, flat[k + 4]});
-  PetscFunctionReturn(0);
-}
-
-// Gathers (a, b, kind) triples of every rank: kind 0 a local-local pair, 1 a pair seen from a's side through a ghost.
-PetscErrorCode GatherPairs(MPI_Comm comm, const std::vector<PetscInt64> &mine, std::vector<PetscInt64> *all)
+// Every rank's entries of mine, in rank order, on every rank.
+template <class T>
+PetscErrorCode AllGather(MPI_Comm comm, MPI_Datatype type, const std::vector<T> &mine, std::vector<T> *all)
 {
   PetscMPIInt size;
   PetscFunctionBeginUser;
@@ -65,7 +43,23 @@ PetscErrorCode GatherPairs(MPI_Comm comm, const std::vector<PetscInt64> &mine, s
   PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
   for (PetscMPIInt r = 1; r < size; ++r) displs[(std::size_t)r] = displs[(std::size_t)r - 1] + counts[(std::size_t)r - 1];
   all->resize((std::size_t)(displs.back() + counts.back()));
-  PetscCallMPI(MPI_Allgatherv(mine.data(), n, MPIU_INT64, all->data(), counts.data(), displs.data(), MPIU_INT64, comm));
+  PetscCallMPI(MPI_Allgatherv(mine.data(), n, type, all->data(), counts.data(), displs.data(), type, comm));
+  PetscFunctionReturn(0);
+}
+
+// Every rank's local bodies, on every rank.
+PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std::vector<Body> *all)
+{
+  std::vector<PetscReal> mine, flat;
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const ContactBody &b = dem.bodies[(std::size_t)i];
+    mine.insert(mine.end(), {(PetscReal)dem.body_id[(std::size_t)i], b.x.x, b.x.y, b.x.z, b.r});
+  }
+  PetscCall(AllGather(comm, MPIU_REAL, mine, &flat));
+  all->clear();
+  for (std::size_t k = 0; k < flat.size(); k += 5)
+    all->push_back({(PetscInt64)flat[k], {flat[k + 1], flat[k + 2], flat[k + 3]}, flat[k + 4]});
   PetscFunctionReturn(0);
 }
 
@@ -127,7 +121,7 @@ PetscErrorCode CheckLists(MPI_Comm comm, const Domain &dom, Dem &dem)
     }
   }
   std::vector<PetscInt64> triples;
-  PetscCall(GatherPairs(comm, mine, &triples));
+  PetscCall(AllGather(comm, MPIU_INT64, mine, &triples)); // (a, b, kind): kind 0 a local-local pair, 1 seen from a through a ghost
   std::map<std::pair<PetscInt64, PetscInt64>, std::vector<PetscInt64>> seen; // pair (min, max) -> (from, kind)...
   for (std::size_t k = 0; k < triples.size(); k += 3) {
     const PetscInt64 a = triples[k], b = triples[k + 1];
