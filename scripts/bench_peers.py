@@ -413,8 +413,7 @@ def parse_peer_log(text, warmup):
 
 
 def loadavg():
-    with open("/proc/loadavg") as f:
-        return [float(v) for v in f.read().split()[:3]]
+    return list(os.getloadavg())
 
 
 def mpirun(ranks, cmd):

@@ -44,10 +44,8 @@ QUIET = ["-output_particles", "0", "-fluid_output_cells", "0", "-output_interval
 
 
 def loadavg():
-    try:
-        return open("/proc/loadavg").read().split()[:3]
-    except OSError:
-        return ["nan"] * 3
+    """The 1, 5 and 15 min load averages as /proc/loadavg writes them (two decimals)."""
+    return ["%.2f" % x for x in os.getloadavg()]
 
 
 def ncores():
