@@ -413,7 +413,7 @@ def parse_peer_log(text, warmup):
 
 
 def loadavg():
-    return list(os.getloadavg())
+    return [round(x, 2) for x in os.getloadavg()]  # as /proc/loadavg writes them
 
 
 def mpirun(ranks, cmd):
