@@ -4,16 +4,14 @@
 #include "fluidbed/kernels/drag_ergun.hpp"
 #include "fluidbed/kernels/drag_huilin_gidaspow.hpp"
 #include "fluidbed/kernels/drag_wen_yu.hpp"
-
-#include <string>
+#include "fluidbed/registry.hpp"
 
 namespace fluidbed {
 
 namespace {
 
-PetscFunctionList drag_laws = NULL;
-std::string       drag_names; // the registered names, comma-separated, for the error of an unknown one
-bool              builtins = false;
+PetscErrorCode RegisterBuiltins();
+NamedRegistry  drag_laws("-drag_model", RegisterBuiltins);
 
 // Each law registered as a function that returns its pair (PetscFunctionList holds plain function pointers).
 #define FLUIDBED_DRAG_LAW(law)                                                                                                             \
@@ -24,8 +22,6 @@ bool              builtins = false;
 PetscErrorCode RegisterBuiltins()
 {
   PetscFunctionBeginUser;
-  if (builtins) PetscFunctionReturn(0);
-  builtins = true;
   // the seed's law: Ergun and Wen-Yu blended around eps = 0.8 (eq. 2.11-2.14)
   PetscCall(DragLawRegister("ergun_wenyu", FLUIDBED_DRAG_LAW(huilin_gidaspow)));
   PetscCall(DragLawRegister("gidaspow", FLUIDBED_DRAG_LAW(gidaspow)));
@@ -42,33 +38,23 @@ PetscErrorCode RegisterBuiltins()
 PetscErrorCode DragLawRegister(const char *name, DragLawMaker maker)
 {
   PetscFunctionBeginUser;
-  if (!drag_laws)
-    PetscCall(PetscRegisterFinalize([]() -> PetscErrorCode {
-      drag_names.clear();
-      builtins = false;
-      return PetscFunctionListDestroy(&drag_laws);
-    }));
-  PetscCall(PetscFunctionListAdd(&drag_laws, name, (void (*)(void))maker));
-  drag_names += (drag_names.empty() ? "" : ", ") + std::string(name);
+  PetscCall(drag_laws.Add(name, (void (*)(void))maker));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DragLawList(PetscFunctionList *list)
 {
   PetscFunctionBeginUser;
-  PetscCall(RegisterBuiltins());
-  *list = drag_laws;
+  PetscCall(drag_laws.List(list));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DragLawGet(const char *name, DragLaw *law)
 {
-  void (*fn)(void) = NULL;
+  void (*fn)(void);
 
   PetscFunctionBeginUser;
-  PetscCall(RegisterBuiltins());
-  PetscCall(PetscFunctionListFind(drag_laws, name, &fn));
-  PetscCheck(fn, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-drag_model %s is unknown: choose one of %s", name, drag_names.c_str());
+  PetscCall(drag_laws.Find(name, &fn));
   *law = ((DragLawMaker)fn)();
   PetscFunctionReturn(0);
 }
