@@ -14,6 +14,7 @@
 
 #include <vector>
 
+#include "fluidbed/contact_model.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/particles.hpp"
@@ -22,8 +23,10 @@
 
 namespace fluidbed {
 
-// Contact parameters (-dem_*, -wall_*) and the time step they imply.
+// Contact parameters (-dem_*, -wall_*) and the time step they imply. k_n, k_t, e and mu are the parameters of the
+// linear spring-dashpot (-dem_contact_model lsd).
 struct DemParams {
+  char      contact_model[64] = "lsd";                                     // -dem_contact_model
   PetscReal kn = 800.0, kt = -1.0, e = 0.9, mu = 0.3;                      // particle-particle; kt < 0: kt = kn
   PetscReal wall_kn = -1.0, wall_kt = -1.0, wall_e = -1.0, wall_mu = -1.0; // < 0: same as the particles
   PetscReal dt_factor    = 0.1;                                            // dt = dt_factor * t_cr
@@ -46,22 +49,16 @@ struct ContactBody {
   double        r, m;
 };
 
-// One contact's history between steps: xi_t (3), the overlap and the normal dashpot force of the previous step.
-struct PairHistory {
-  kernels::Vec3 xi;
-  PetscReal     overlap = 0, damping = 0;
-};
-
 // A listed pair as the particle that evaluates it sees it: the smaller id of two local particles, or the local
-// one of a pair with a ghost. Between syncs (DemSyncPairHistory) hist is the authoritative copy of that
-// particle's history slot; the swarm's slots are brought up to date before particles migrate or are written.
+// one of a pair with a ghost. Between syncs (DemSyncPairHistory) the pair's history in the list
+// (NeighbourList::pair_hist) is the authoritative copy of that particle's history slot; the swarm's slots are
+// brought up to date before particles migrate or are written.
 struct ContactPair {
-  PetscInt    partner;      // body index
-  PetscInt    slot;         // the evaluating particle's history slot, -1 when not in contact
-  PetscInt    partner_slot; // a local partner's slot for the pair (its copy from the last sync), else -1
-  PetscInt    out;          // where the force loop leaves the pair's contribution (Dem::contributions)
-  PetscReal   sqrt_meff;    // sqrt of the pair's effective mass, constant for the pair
-  PairHistory hist;         // the slot's history; meaningful while slot >= 0
+  PetscInt  partner;      // body index
+  PetscInt  slot;         // the evaluating particle's history slot, -1 when not in contact
+  PetscInt  partner_slot; // a local partner's slot for the pair (its copy from the last sync), else -1
+  PetscInt  out;          // where the force loop leaves the pair's contribution (Dem::contributions)
+  PetscReal sqrt_meff;    // sqrt of the pair's effective mass, constant for the pair
 };
 // What one listed pair adds to its particle this step: the contact force, n x f_t (the torque is r n x f_t) and
 // the dashpot impulse correction, as seen from the evaluating particle; zero when the pair is apart.
@@ -70,11 +67,10 @@ struct ContactContribution {
 };
 
 // A wall the particle may touch before the next rebuild (within r + skin of it at the rebuild, or holding a
-// history slot for it), with that slot's history as ContactPair keeps a pair's.
+// history slot for it); its history is kept in the list as a pair's (NeighbourList::wall_hist).
 struct WallContact {
-  PetscInt    face;
-  PetscInt    slot; // the particle's history slot for the wall, -1 when not in contact
-  PairHistory hist;
+  PetscInt face;
+  PetscInt slot; // the particle's history slot for the wall, -1 when not in contact
 };
 
 // Verlet neighbour list. Full: for each local particle, the bodies within r_i + r_j + skin sorted by id, each
@@ -96,6 +92,14 @@ struct NeighbourList {
   std::vector<PetscInt>    finish_start; // nlocal + 1 offsets into finish
   std::vector<PetscInt>    finish;
   PetscInt                 ncontrib = 0; // places for contributions: the ring, then those of their own
+  // The histories of the listed contacts, the contact model's history_size reals per pair and per wall contact
+  // (meaningful while its slot >= 0), in the order of pairs and walls.
+  PetscInt               hs = 0;
+  std::vector<PetscReal> pair_hist, wall_hist;
+  PetscReal             *PairHistory(PetscInt q) { return &pair_hist[(std::size_t)(hs * q)]; }
+  PetscReal             *WallHistory(PetscInt k) { return &wall_hist[(std::size_t)(hs * k)]; }
+  const PetscReal       *PairHistory(PetscInt q) const { return &pair_hist[(std::size_t)(hs * q)]; }
+  const PetscReal       *WallHistory(PetscInt k) const { return &wall_hist[(std::size_t)(hs * k)]; }
 };
 
 // Ghost particles of the 26 (3D) or 8 (2D) neighbouring subdomains, periodic images included. Built at each
@@ -138,6 +142,7 @@ typedef PetscErrorCode (*DemExternalForce)(void *ctx, DM swarm, const ContactBod
 
 struct Dem {
   DemParams            par;
+  ContactModel         contact; // the model -dem_contact_model names
   const Domain        *dom   = nullptr;
   const ParticleGrid  *pgrid = nullptr;
   const ParticleProps *props = nullptr;
@@ -161,7 +166,7 @@ struct Dem {
 
 PetscErrorCode DemCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, PhaseLog *log,
                          Dem **dem);
-// Creates the swarm (ParticlesCreate) with the contact history sized by -dem_max_contacts.
+// Creates the swarm (ParticlesCreate) with -dem_max_contacts history slots of the contact model's size.
 PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm);
 // Initial migration, ghosts, neighbour lists and forces; call after insertion. After a restart the forces of the
 // checkpoint are kept (recomputing them would advance the contact histories), so the run continues bit for bit.
@@ -181,8 +186,9 @@ PetscErrorCode DemGhostsBuild(Dem *dem);
 PetscErrorCode DemGhostsUpdate(Dem *dem);
 PetscErrorCode DemGhostsDestroy(GhostExchange *gx);
 PetscErrorCode DemNeighbourBuild(Dem *dem);
+// The contact model's forces (ContactModel::forces), then the external forces (drag).
 PetscErrorCode DemContactForces(Dem *dem);
-// Between rebuilds a pair's history is kept in the neighbour list (nl.pairs) from the evaluating side; this stores
+// Between rebuilds a pair's history is kept in the neighbour list (nl.pair_hist) from the evaluating side; this stores
 // it in that particle's swarm slot and (negated) in a local partner's. Called before particles migrate and before
 // a checkpoint.
 PetscErrorCode DemSyncPairHistory(Dem *dem);

@@ -3,8 +3,8 @@
 // The swarm is a PIC DMSwarm whose cell DM is the particle grid's vertex DMDA. Every field a particle needs to
 // continue after migration or restart travels with it, including its tangential contact history: for each of
 // up to K contacts the partner's key (a particle id >= 0, a wall key < -1, or -1 for a free slot) and the
-// contact's history: the tangential displacement xi_t (eq. 2.4), and the overlap and normal dashpot force of the
-// previous step (for the exact dashpot impulse, kernels/contact_lsd.hpp).
+// contact's history, as many reals as the contact model keeps (contact_model.hpp; the linear spring-dashpot's:
+// the tangential displacement xi_t (eq. 2.4), and the overlap and normal dashpot force of the previous step).
 #pragma once
 
 #include <petscdmswarm.h>
@@ -35,7 +35,7 @@ constexpr const char *torque       = "torque";       // N m, 3 components
 constexpr const char *diameter     = "diameter";     // m
 constexpr const char *id           = "id";           // unique global id, PetscInt64
 constexpr const char *contact_key  = "contact_key";  // K partner keys, PetscInt64
-constexpr const char *contact_hist = "contact_hist"; // K histories of kHistoryStride reals: xi_t (m), overlap (m), dashpot (N)
+constexpr const char *contact_hist = "contact_hist"; // K histories of the contact model's history_size reals
 constexpr const char *drag_coef    = "drag_coef";    // V_p K of the last gas step's linearised drag, N s/m (coupling)
 constexpr const char *drag_ref     = "drag_ref";     // V_p K v_p at that step, N, 3 components (coupling)
 constexpr const char *drag_cell    = "drag_cell";    // the coupling cell the particle was in at that step (coupling), PetscInt64
@@ -44,24 +44,25 @@ constexpr const char *drag_cell    = "drag_cell";    // the coupling cell the pa
 constexpr const char *all[] = {velocity, omega, force, torque, diameter, id, contact_key, contact_hist, drag_coef, drag_ref, drag_cell};
 } // namespace field
 
-constexpr PetscInt64 kFreeSlot      = -1;
-constexpr PetscInt   kHistoryStride = 5;
+constexpr PetscInt64 kFreeSlot = -1;
 // Walls are keyed -2 - face so that they sort before every particle id.
 inline PetscInt64 WallKey(int face)
 {
   return -2 - face;
 }
 
-// Creates the PIC swarm on the particle grid's vertex DMDA with the fields above and no particles.
-PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, PetscInt max_contacts, DM *swarm);
+// Creates the PIC swarm on the particle grid's vertex DMDA with the fields above and no particles: max_contacts
+// history slots per particle of history_size reals each.
+PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, PetscInt max_contacts, PetscInt history_size,
+                               DM *swarm);
 
 // The local particles' field arrays, taken and given back together.
 struct ParticleArrays {
-  PetscInt    n = 0, dim = 3, K = 0;
-  PetscReal  *x = nullptr; // dim components per particle (DMSwarmPIC_coor)
+  PetscInt    n = 0, dim = 3, K = 0, hs = 0; // K history slots per particle, hs reals per slot
+  PetscReal  *x = nullptr;                   // dim components per particle (DMSwarmPIC_coor)
   PetscReal  *v = nullptr, *w = nullptr, *f = nullptr, *t = nullptr, *d = nullptr;
   PetscInt64 *id = nullptr, *ckey = nullptr;
-  PetscReal  *chist = nullptr;                  // kHistoryStride reals per slot
+  PetscReal  *chist = nullptr;                  // hs reals per slot
   PetscReal  *dcoef = nullptr, *dref = nullptr; // coupling: V_p K and V_p K v_p of the last gas step
   PetscInt64 *dcell = nullptr;                  // coupling: the cell of that step
 };

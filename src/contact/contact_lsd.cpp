@@ -1,5 +1,6 @@
-// Contact forces and torques on the local particles (seed eq. 2.3-2.10) plus gravity: gets the swarm fields,
-// loops over walls and neighbour lists, calls the kernel, restores. Each particle sums walls first (in face
+// The linear spring-dashpot contact model (-dem_contact_model lsd, seed eq. 2.3-2.10, kernels/contact_lsd.hpp):
+// forces and torques on the local particles plus gravity. Gets the swarm fields, loops over walls and neighbour
+// lists, calls the kernel, restores. Each particle sums walls first (in face
 // order) and then partners in increasing id, so the result does not depend on the decomposition.
 //
 // One sweep over the particles in storage order: each evaluates the pairs it holds in the half list (their
@@ -10,7 +11,7 @@
 #include "fluidbed/dem.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
-#include <string>
+#include "history_slots.hpp"
 
 namespace fluidbed {
 
@@ -18,45 +19,25 @@ using kernels::Vec3;
 
 namespace {
 
-using SlotHistory = PairHistory;
+// One contact's history between steps, as five reals: xi_t (3), the overlap and the normal dashpot force of the
+// previous step (the last two for the exact dashpot impulse).
+struct SlotHistory {
+  Vec3      xi;
+  PetscReal overlap = 0, damping = 0;
+};
+constexpr PetscInt kLsdHistory = 5;
 
-inline PetscReal *SlotPtr(const ParticleArrays &p, PetscInt i, PetscInt s)
+inline SlotHistory Load(const PetscReal *q)
 {
-  return &p.chist[kHistoryStride * (p.K * i + s)];
-}
-inline SlotHistory LoadSlot(const ParticleArrays &p, PetscInt i, PetscInt s)
-{
-  const PetscReal *q = SlotPtr(p, i, s);
   return {{q[0], q[1], q[2]}, q[3], q[4]};
 }
-inline void StoreSlot(const ParticleArrays &p, PetscInt i, PetscInt s, const SlotHistory &h)
+inline void Store(const SlotHistory &h, PetscReal *q)
 {
-  PetscReal *q = SlotPtr(p, i, s);
-  q[0]         = h.xi.x;
-  q[1]         = h.xi.y;
-  q[2]         = h.xi.z;
-  q[3]         = h.overlap;
-  q[4]         = h.damping;
-}
-
-// A free history slot of particle i for a new contact with key.
-PetscErrorCode AllocSlot(const ParticleArrays &p, PetscInt i, PetscInt64 key, PetscInt *slot)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt s = 0; s < p.K; ++s)
-    if (p.ckey[p.K * i + s] == kFreeSlot) {
-      p.ckey[p.K * i + s] = key;
-      StoreSlot(p, i, s, SlotHistory{});
-      *slot = s;
-      PetscFunctionReturn(0);
-    }
-  {
-    std::string keys;
-    for (PetscInt s = 0; s < p.K; ++s) keys += " " + std::to_string((long long)p.ckey[p.K * i + s]);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
-            "particle %lld has more than %d simultaneous contacts (partners:%s; new %lld): raise -dem_max_contacts", (long long)p.id[i],
-            (int)p.K, keys.c_str(), (long long)key);
-  }
+  q[0] = h.xi.x;
+  q[1] = h.xi.y;
+  q[2] = h.xi.z;
+  q[3] = h.overlap;
+  q[4] = h.damping;
 }
 
 struct WallFace {
@@ -89,12 +70,6 @@ inline SlotHistory Mirror(const SlotHistory &h)
 inline Contribution EndContribution(const kernels::LsdModel &m, PetscReal sqrt_meff, const Vec3 &n, PetscReal dt, const SlotHistory &h)
 {
   return {Vec3{}, Vec3{}, kernels::damping_impulse_correction(m.damp_n * sqrt_meff, h.overlap, 0.0, h.damping, 0.0, 0.5 * dt, n)};
-}
-
-void FreeSlot(const ParticleArrays &p, PetscInt i, PetscInt s)
-{
-  p.ckey[p.K * i + s] = kFreeSlot;
-  StoreSlot(p, i, s, SlotHistory{});
 }
 
 struct Sums {
@@ -139,9 +114,10 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   const kernels::LsdModel &pp     = L.dem->par.pp;
   const PetscInt           q0 = L.nl->pair_start[(std::size_t)i], q1 = L.nl->pair_start[(std::size_t)i + 1];
   ContactPair             *pairs = L.nl->pairs.data();
+  PetscReal               *hq    = L.nl->pair_hist.data() + kLsdHistory * (std::size_t)q0; // pair q's history
 
   PetscFunctionBeginUser;
-  for (PetscInt q = q0; q < q1; ++q) {
+  for (PetscInt q = q0; q < q1; ++q, hq += kLsdHistory) {
     if (q + kPrefetchPairs < L.npairs) { // the partner of a pair a few ahead: its body is a likely cache miss
       const char *b = reinterpret_cast<const char *>(&L.bodies[pairs[q + kPrefetchPairs].partner]);
       __builtin_prefetch(b);
@@ -161,27 +137,61 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
     const PetscReal rsum  = bi.r + bj.r;
     Contribution    c; // zero unless the pair touched
     if (dist2 < rsum * rsum) {
-      if (pr.slot < 0) {
-        PetscCall(AllocSlot(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
-        pr.hist = SlotHistory{};
-      }
+      SlotHistory h;
+      if (pr.slot < 0) PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
+      else h = Load(hq);
       const kernels::ContactKinematics kin =
         kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, pr.sqrt_meff);
-      c = Evaluate(pp, kin, dt, pr.hist);
+      c = Evaluate(pp, kin, dt, h);
+      Store(h, hq);
       L.contacts += j_local ? 2 : 1;
       L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
     } else if (pr.slot >= 0) {
-      c = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, pr.hist);
-      FreeSlot(L.p, i, pr.slot);
+      c = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, Load(hq));
+      HistorySlotFree(L.p, i, pr.slot);
       pr.slot = -1;
       // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more
       // slots than it has contacts
       if (pr.partner_slot >= 0) {
-        FreeSlot(L.p, j, pr.partner_slot);
+        HistorySlotFree(L.p, j, pr.partner_slot);
         pr.partner_slot = -1;
       }
     }
     L.contrib[pr.out] = c;
+  }
+  PetscFunctionReturn(0);
+}
+
+// The walls of particle i's list, summed into sum in face order: the others were more than r + skin away at the last
+// rebuild, and no particle moves half the skin before the next (DemKickDrift). Out of line: most particles have no
+// wall near, and the pair sums of SumParticle keep their registers without this code.
+[[gnu::noinline]] PetscErrorCode SumWalls(ForceLoop &L, PetscInt i, Sums *sum)
+{
+  const ContactBody &bi = L.bodies[i];
+  const PetscReal    dt = L.dt;
+  NeighbourList     &nl = *L.nl;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
+    WallContact    &wc  = nl.walls[(std::size_t)k];
+    PetscReal      *hk  = &nl.wall_hist[(std::size_t)(kLsdHistory * k)];
+    const WallFace &w   = L.wall_of_face[wc.face];
+    const PetscReal xa  = (&bi.x.x)[w.axis];
+    const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
+    if (gap < bi.r) {
+      SlotHistory h;
+      if (wc.slot < 0) PetscCall(HistorySlotTake(L.p, i, WallKey(w.face), &wc.slot));
+      else h = Load(hk);
+      const kernels::ContactKinematics kin = kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m);
+      sum->Add(Evaluate(L.dem->par.pw, kin, dt, h), bi.r);
+      Store(h, hk);
+      L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * bi.r));
+      ++L.contacts;
+    } else if (wc.slot >= 0) {
+      sum->Add(EndContribution(L.dem->par.pw, PetscSqrtReal(bi.m), w.n, dt, Load(hk)), bi.r);
+      HistorySlotFree(L.p, i, wc.slot);
+      wc.slot = -1;
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -191,33 +201,11 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 [[gnu::always_inline]] inline PetscErrorCode SumParticle(ForceLoop &L, PetscInt i)
 {
   const ContactBody &bi = L.bodies[i];
-  const PetscReal    dt = L.dt;
   NeighbourList     &nl = *L.nl;
   Sums               sum;
 
   PetscFunctionBeginUser;
-  // The walls of the particle's list: the others were more than r + skin away at the last rebuild, and no particle
-  // moves half the skin before the next (DemKickDrift).
-  for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
-    WallContact    &wc  = nl.walls[(std::size_t)k];
-    const WallFace &w   = L.wall_of_face[wc.face];
-    const PetscReal xa  = (&bi.x.x)[w.axis];
-    const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
-    if (gap < bi.r) {
-      if (wc.slot < 0) {
-        PetscCall(AllocSlot(L.p, i, WallKey(w.face), &wc.slot));
-        wc.hist = SlotHistory{};
-      }
-      const kernels::ContactKinematics kin = kernels::wall_kinematics(w.n, gap, bi.r, bi.v, bi.w, bi.m);
-      sum.Add(Evaluate(L.dem->par.pw, kin, dt, wc.hist), bi.r);
-      L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * bi.r));
-      ++L.contacts;
-    } else if (wc.slot >= 0) {
-      sum.Add(EndContribution(L.dem->par.pw, PetscSqrtReal(bi.m), w.n, dt, wc.hist), bi.r);
-      FreeSlot(L.p, i, wc.slot);
-      wc.slot = -1;
-    }
-  }
+  if (nl.wall_start[(std::size_t)i] < nl.wall_start[(std::size_t)i + 1]) PetscCall(SumWalls(L, i, &sum));
   // Pairs apart add a zero contribution. The sums start at +0 and, with round-to-nearest, a sum is -0 only when
   // both terms are, so they never become -0: adding a zero (of either sign) leaves them unchanged bit for bit,
   // as if the pair were skipped. A pair evaluated by the partner adds {-force, n x f_t, -impulse}: -1 * x is -x.
@@ -244,42 +232,8 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   PetscFunctionReturn(0);
 }
 
-} // namespace
-
-PetscErrorCode DemSyncPairHistory(Dem *dem)
-{
-  NeighbourList &nl     = dem->nl;
-  const PetscInt nlocal = (PetscInt)nl.start.size() - 1;
-  ParticleArrays p;
-
-  PetscFunctionBeginUser;
-  if (nlocal <= 0) PetscFunctionReturn(0);
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
-  for (PetscInt i = 0; i < nlocal; ++i) {
-    const PetscInt64 id = dem->body_id[(std::size_t)i];
-    for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
-      const WallContact &wc = nl.walls[(std::size_t)k];
-      if (wc.slot >= 0) StoreSlot(p, i, wc.slot, wc.hist);
-    }
-    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
-      ContactPair   &pr = nl.pairs[(std::size_t)q];
-      const PetscInt j  = pr.partner;
-      if (pr.slot >= 0) StoreSlot(p, i, pr.slot, pr.hist);
-      if (j >= nlocal) continue; // a ghost partner: its owner keeps its own side
-      if (pr.slot >= 0) {
-        if (pr.partner_slot < 0) PetscCall(AllocSlot(p, j, id, &pr.partner_slot));
-        StoreSlot(p, j, pr.partner_slot, Mirror(pr.hist));
-      } else if (pr.partner_slot >= 0) {
-        FreeSlot(p, j, pr.partner_slot);
-        pr.partner_slot = -1;
-      }
-    }
-  }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode DemContactForces(Dem *dem)
+// ContactModel::forces of the linear spring-dashpot.
+PetscErrorCode LsdForces(Dem *dem)
 {
   const Domain  &dom    = *dem->dom;
   NeighbourList &nl     = dem->nl;
@@ -311,6 +265,8 @@ PetscErrorCode DemContactForces(Dem *dem)
   L.max_rel      = 0.0;
 
   PetscCall(ParticleArraysGet(dem->swarm, &L.p));
+  PetscCheck(L.p.hs == kLsdHistory && nl.hs == kLsdHistory, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "lsd contacts keep %d history reals, the swarm and lists hold %d and %d", (int)kLsdHistory, (int)L.p.hs, (int)nl.hs);
   // Each pair once, in the storage order of the particles that evaluate it; each particle summed right after
   // the last of its pairs is evaluated. Its sums do not depend on when that is, and each particle's slots are
   // taken and freed in the same order: by its pairs (in the order they are evaluated), then by its walls.
@@ -323,7 +279,30 @@ PetscErrorCode DemContactForces(Dem *dem)
   dem->stats.contacts          = L.contacts;
   dem->stats.max_overlap_rel   = PetscMax(dem->stats.max_overlap_rel, L.max_rel);
   dem->stats.guard_overlap_rel = PetscMax(dem->stats.guard_overlap_rel, L.max_rel);
-  if (dem->external) PetscCall(dem->external(dem->external_ctx, dem->swarm, dem->bodies.data()));
+  PetscFunctionReturn(0);
+}
+
+void LsdMirror(const PetscReal *h, PetscReal *out)
+{
+  Store(Mirror(Load(h)), out);
+}
+
+PetscReal LsdElasticEnergy(const Dem &dem, const PetscReal *h, bool wall)
+{
+  const SlotHistory a = Load(h);
+  return kernels::lsd_elastic_energy(wall ? dem.par.pw : dem.par.pp, a.overlap, a.xi);
+}
+
+} // namespace
+
+PetscErrorCode ContactModelCreateLsd(ContactModel *model)
+{
+  PetscFunctionBeginUser;
+  model->name           = "lsd";
+  model->history_size   = kLsdHistory;
+  model->forces         = LsdForces;
+  model->mirror         = LsdMirror;
+  model->elastic_energy = LsdElasticEnergy;
   PetscFunctionReturn(0);
 }
 

@@ -1,13 +1,63 @@
-// Contact parameters and the DEM time step (seed eq. 3.2-3.3, Table 3.3 / 5.3 defaults).
+// Contact models by name (include/fluidbed/contact_model.hpp), the contact parameters and the DEM time step (seed
+// eq. 3.2-3.3, Table 3.3 / 5.3 defaults), and what every model shares: its history slots in the swarm and their
+// sync with the neighbour lists.
 #include "fluidbed/dem.hpp"
 #include "fluidbed/options.hpp"
+#include "fluidbed/registry.hpp"
+
+#include "history_slots.hpp"
+
+#include <string>
 
 namespace fluidbed {
+
+namespace {
+PetscErrorCode RegisterBuiltins()
+{
+  PetscFunctionBeginUser;
+  PetscCall(ContactModelRegister("lsd", ContactModelCreateLsd));
+  PetscFunctionReturn(0);
+}
+NamedRegistry contact_models("-dem_contact_model", RegisterBuiltins);
+} // namespace
+
+PetscErrorCode ContactModelRegister(const char *name, ContactModelCreate create)
+{
+  PetscFunctionBeginUser;
+  PetscCall(contact_models.Add(name, (void (*)(void))create));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactModelList(PetscFunctionList *list)
+{
+  PetscFunctionBeginUser;
+  PetscCall(contact_models.List(list));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactModelGet(const char *name, ContactModel *model)
+{
+  void (*fn)(void);
+
+  PetscFunctionBeginUser;
+  PetscCall(contact_models.Find(name, &fn));
+  *model = ContactModel{};
+  PetscCall(((ContactModelCreate)fn)(model));
+  PetscCheck(model->forces && model->mirror && model->elastic_energy && model->history_size > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "contact model %s does not set its history size and all its functions", name);
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const ParticleProps &props, DemParams *p)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "dem_", "DEM: linear spring-dashpot contacts (seed eq. 2.3-2.10)", "DEM");
+  {
+    PetscFunctionList models;
+    PetscCall(ContactModelList(&models));
+    PetscCall(PetscOptionsFList("-contact_model", "Contact model (lsd: linear spring-dashpot with a Coulomb slider, eq. 2.3-2.10)",
+                                "ContactModelRegister", models, p->contact_model, p->contact_model, sizeof(p->contact_model), NULL));
+  }
   PetscCall(OptionsReal(PetscOptionsObject, "-kn", "Normal spring stiffness k_n", "N/m", Positive(1e12), &p->kn, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-kt", "Tangential spring stiffness k_t (negative: equal to k_n, as in the seed)", "N/m",
                         Closed(-1.0, 1e12), &p->kt, NULL));
@@ -55,12 +105,68 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode HistorySlotsFull(const ParticleArrays &p, PetscInt i, PetscInt64 key)
+{
+  PetscFunctionBeginUser;
+  {
+    std::string keys;
+    for (PetscInt s = 0; s < p.K; ++s) keys += " " + std::to_string((long long)p.ckey[p.K * i + s]);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+            "particle %lld has more than %d simultaneous contacts (partners:%s; new %lld): raise -dem_max_contacts", (long long)p.id[i],
+            (int)p.K, keys.c_str(), (long long)key);
+  }
+}
+
+PetscErrorCode DemContactForces(Dem *dem)
+{
+  PetscFunctionBeginUser;
+  PetscCall(dem->contact.forces(dem));
+  if (dem->external) PetscCall(dem->external(dem->external_ctx, dem->swarm, dem->bodies.data()));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DemSyncPairHistory(Dem *dem)
+{
+  NeighbourList &nl     = dem->nl;
+  const PetscInt nlocal = (PetscInt)nl.start.size() - 1;
+  ParticleArrays p;
+
+  PetscFunctionBeginUser;
+  if (nlocal <= 0) PetscFunctionReturn(0);
+  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  std::vector<PetscReal> mirrored((std::size_t)p.hs);
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const PetscInt64 id = dem->body_id[(std::size_t)i];
+    for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
+      const WallContact &wc = nl.walls[(std::size_t)k];
+      if (wc.slot >= 0) HistoryCopy(p.hs, nl.WallHistory(k), SlotHistory(p, i, wc.slot));
+    }
+    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
+      ContactPair   &pr = nl.pairs[(std::size_t)q];
+      const PetscInt j  = pr.partner;
+      if (pr.slot >= 0) HistoryCopy(p.hs, nl.PairHistory(q), SlotHistory(p, i, pr.slot));
+      if (j >= nlocal) continue; // a ghost partner: its owner keeps its own side
+      if (pr.slot >= 0) {
+        if (pr.partner_slot < 0) PetscCall(HistorySlotTake(p, j, id, &pr.partner_slot));
+        dem->contact.mirror(nl.PairHistory(q), mirrored.data());
+        HistoryCopy(p.hs, mirrored.data(), SlotHistory(p, j, pr.partner_slot));
+      } else if (pr.partner_slot >= 0) {
+        HistorySlotFree(p, j, pr.partner_slot);
+        pr.partner_slot = -1;
+      }
+    }
+  }
+  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode DemParamsView(const DemParams &p, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: k_n %.6g N/m, k_t %.6g N/m, e %.6g, mu %.6g; walls k_n %.6g N/m, e %.6g, mu %.6g%s\n",
-                                   (double)p.kn, (double)p.kt, (double)p.e, (double)p.mu, (double)p.wall_kn, (double)p.wall_e,
-                                   (double)p.wall_mu, p.pseudo2d ? "; pseudo-2D motion" : ""));
+  PetscCall(PetscViewerASCIIPrintf(
+    viewer, "DEM: contact model %s, k_n %.6g N/m, k_t %.6g N/m, e %.6g, mu %.6g; walls k_n %.6g N/m, e %.6g, mu %.6g%s\n", p.contact_model,
+    (double)p.kn, (double)p.kt, (double)p.e, (double)p.mu, (double)p.wall_kn, (double)p.wall_e, (double)p.wall_mu,
+    p.pseudo2d ? "; pseudo-2D motion" : ""));
   PetscCall(PetscViewerASCIIPrintf(viewer, "DEM: t_cr %.4e s (particle pair), %.4e s (wall); dt = %.6g t_cr = %.4e s\n", (double)p.t_cr,
                                    (double)p.t_cr_wall, (double)p.dt_factor, (double)p.dt));
   if (p.dt_factor > 1.0)

@@ -4,6 +4,8 @@
 // which contact forces are summed (see dem.hpp).
 #include "fluidbed/dem.hpp"
 
+#include "history_slots.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -111,8 +113,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       if (j < nlocal && dem->body_id[(std::size_t)j] < id) nl.entries.push_back(-1); // the partner's pair: linked below
       else {
         nl.entries.push_back(2 * (PetscInt)nl.pairs.size());
-        nl.pairs.push_back(
-          {j, -1, -1, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m), PairHistory{}});
+        nl.pairs.push_back({j, -1, -1, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m)});
       }
     }
     nl.start[(std::size_t)i + 1]      = (PetscInt)nl.entries.size();
@@ -137,8 +138,11 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   // the walls each particle holds a slot for or may reach before the next rebuild (it moves less than half the
   // skin until then).
   const PetscInt K = p.K;
+  nl.hs            = p.hs;
+  nl.pair_hist.assign((std::size_t)(nl.hs * (PetscInt)nl.pairs.size()), 0.0);
   nl.wall_start.assign((std::size_t)nlocal + 1, 0);
   nl.walls.clear();
+  nl.wall_hist.clear();
   std::vector<char> used((std::size_t)K);
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
@@ -151,9 +155,8 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
           ContactPair &pr = nl.pairs[(std::size_t)q];
           if (nl.entries[(std::size_t)e] % 2) pr.partner_slot = s;
           else {
-            const PetscReal *h = &p.chist[kHistoryStride * (K * i + s)];
-            pr.slot            = s;
-            pr.hist            = {{h[0], h[1], h[2]}, h[3], h[4]};
+            pr.slot = s;
+            HistoryCopy(p.hs, SlotHistory(p, i, s), nl.PairHistory(q));
           }
           used[(std::size_t)s] = 1;
           break;
@@ -165,8 +168,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       if (key[s] <= -2) {
         if (-2 - key[s] < FACE_COUNT) wall_slot[-2 - key[s]] = s;
       } else if (key[s] >= 0 && !used[(std::size_t)s]) {
-        key[s] = kFreeSlot;
-        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = 0.0;
+        HistorySlotFree(p, i, s);
       }
     }
     const ContactBody &b = dem->bodies[(std::size_t)i];
@@ -176,12 +178,9 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       const PetscReal xa  = (&b.x.x)[a];
       const PetscReal gap = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
       if (wall_slot[f] < 0 && !(gap < b.r + skin)) continue;
-      WallContact w{f, wall_slot[f], PairHistory{}};
-      if (w.slot >= 0) {
-        const PetscReal *h = &p.chist[kHistoryStride * (K * i + w.slot)];
-        w.hist             = {{h[0], h[1], h[2]}, h[3], h[4]};
-      }
-      nl.walls.push_back(w);
+      nl.walls.push_back({f, wall_slot[f]});
+      nl.wall_hist.resize(nl.wall_hist.size() + (std::size_t)nl.hs, 0.0);
+      if (wall_slot[f] >= 0) HistoryCopy(p.hs, SlotHistory(p, i, wall_slot[f]), nl.WallHistory((PetscInt)nl.walls.size() - 1));
     }
     nl.wall_start[(std::size_t)i + 1] = (PetscInt)nl.walls.size();
   }

@@ -68,7 +68,7 @@ std::vector<ParticleDataset> ParticleDatasets(const ParticleArrays &p)
           {"force", 3, p.f, nullptr, true},
           {"torque", 3, p.t, nullptr, true},
           {"contact_key", p.K, nullptr, p.ckey, true},
-          {"contact_hist", kHistoryStride * p.K, p.chist, nullptr, true},
+          {"contact_hist", p.hs * p.K, p.chist, nullptr, true},
           {"drag_coef", 1, p.dcoef, nullptr, true},
           {"drag_ref", 3, p.dref, nullptr, true},
           {"drag_cell", 1, nullptr, p.dcell, true}};
@@ -89,7 +89,10 @@ PetscErrorCode ParticlesWriteHDF5(DM sw, PetscViewer viewer, PetscBool full)
     if (s.real) PetscCall(WriteRows(viewer, comm, s.name, s.bs, p.n, s.real));
     else PetscCall(WriteRowsInt64(viewer, comm, s.name, s.bs, p.n, s.integer));
   }
-  if (full) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
+  if (full) {
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "max_contacts", PETSC_INT, &p.K));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "contact_history_size", PETSC_INT, &p.hs));
+  }
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(ParticleArraysRestore(sw, &p));
   PetscFunctionReturn(0);
@@ -132,7 +135,8 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)sw);
   const int   dim  = (int)dom.dim;
-  PetscInt    Kf   = 0, K;
+  PetscInt    Kf   = 0, K, hs, hbs, hsf;
+  PetscBool   has_hs;
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
@@ -140,6 +144,17 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/particles", "max_contacts", PETSC_INT, NULL, &Kf));
   PetscCall(DMSwarmGetField(sw, field::contact_key, &K, NULL, NULL));
   PetscCall(DMSwarmRestoreField(sw, field::contact_key, &K, NULL, NULL));
+  PetscCall(DMSwarmGetField(sw, field::contact_hist, &hbs, NULL, NULL));
+  PetscCall(DMSwarmRestoreField(sw, field::contact_hist, &hbs, NULL, NULL));
+  hs = hsf = hbs / K;
+  // checkpoints from before the contact-model seam do not say: they hold the linear spring-dashpot's histories,
+  // the only model then
+  PetscCall(PetscViewerHDF5HasAttribute(viewer, "/particles", "contact_history_size", &has_hs));
+  if (has_hs) PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/particles", "contact_history_size", PETSC_INT, NULL, &hsf));
+  PetscCheck(hsf == hs, comm, PETSC_ERR_USER_INPUT,
+             "-restart: the checkpoint's contacts keep %d history reals each, this run's contact model (-dem_contact_model) %d: "
+             "restart with the model that wrote it",
+             (int)hsf, (int)hs);
 
   // Each rank reads a block of rows of every dataset.
   struct Dataset {
@@ -148,7 +163,7 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
     Vec         v;
   } sets[] = {{"position", dim, NULL}, {"velocity", 3, NULL},     {"omega", 3, NULL},
               {"force", 3, NULL},      {"torque", 3, NULL},       {"diameter", 1, NULL},
-              {"id", 1, NULL},         {"contact_key", Kf, NULL}, {"contact_hist", kHistoryStride * Kf, NULL},
+              {"id", 1, NULL},         {"contact_key", Kf, NULL}, {"contact_hist", hs * Kf, NULL},
               {"drag_coef", 1, NULL},  {"drag_ref", 3, NULL},     {"drag_cell", 1, NULL}};
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
   for (auto &s : sets) PetscCall(ReadRows(viewer, comm, s.name, s.bs, &s.v));
@@ -220,7 +235,7 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
       p.id[i] = (PetscInt64)r[o++];
       for (PetscInt s = 0; s < K; ++s) {
         p.ckey[K * i + s] = kFreeSlot;
-        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = 0.0;
+        for (PetscInt c = 0; c < hs; ++c) p.chist[hs * (K * i + s) + c] = 0.0;
       }
       for (PetscInt s = 0; s < Kf; ++s) {
         const PetscInt64 key = (PetscInt64)r[o + s];
@@ -229,9 +244,9 @@ PetscErrorCode ParticlesReadHDF5(DM sw, PetscViewer viewer, const Domain &dom, c
                    "-restart: particle %lld holds %d contacts in the checkpoint; raise -dem_max_contacts to at least %d",
                    (long long)p.id[i], (int)(s + 1), (int)Kf);
         p.ckey[K * i + s] = key;
-        for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (K * i + s) + c] = r[o + Kf + kHistoryStride * s + c];
+        for (PetscInt c = 0; c < hs; ++c) p.chist[hs * (K * i + s) + c] = r[o + Kf + hs * s + c];
       }
-      o += Kf + kHistoryStride * Kf;
+      o += Kf + hs * Kf;
       p.dcoef[i] = r[o++];
       for (int c = 0; c < 3; ++c) p.dref[3 * i + c] = r[o + c];
       o += 3;

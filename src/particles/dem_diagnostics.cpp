@@ -160,11 +160,11 @@ PetscErrorCode DemMechanicalEnergy(Dem *dem, PetscReal *energy)
     for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
       const ContactPair &pr = nl.pairs[(std::size_t)q];
       if (pr.slot < 0) continue;
-      e += (pr.partner < nlocal ? 1.0 : 0.5) * kernels::lsd_elastic_energy(dem->par.pp, pr.hist.overlap, pr.hist.xi);
+      e += (pr.partner < nlocal ? 1.0 : 0.5) * dem->contact.elastic_energy(*dem, nl.PairHistory(q), false);
     }
     for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
       const WallContact &wc = nl.walls[(std::size_t)k];
-      if (wc.slot >= 0) e += kernels::lsd_elastic_energy(dem->par.pw, wc.hist.overlap, wc.hist.xi);
+      if (wc.slot >= 0) e += dem->contact.elastic_energy(*dem, nl.WallHistory(k), true);
     }
   }
   PetscCallMPI(MPI_Allreduce(&e, energy, 1, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)dem->swarm)));

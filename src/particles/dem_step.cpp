@@ -42,6 +42,7 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
   d->props = &props;
   d->log   = log;
   PetscCall(DemParamsSetFromOptions(comm, dom, props, &d->par));
+  PetscCall(ContactModelGet(d->par.contact_model, &d->contact));
   d->skin = d->par.skin * props.d_max;
   d->halo = props.d_max + d->skin;
   for (int a = 0; a < dom.dim; ++a)
@@ -57,7 +58,8 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
 PetscErrorCode DemCreateSwarm(Dem *dem, DM *swarm)
 {
   PetscFunctionBeginUser;
-  PetscCall(ParticlesCreate(PetscObjectComm((PetscObject)dem->pgrid->da_vertex), *dem->dom, *dem->pgrid, dem->par.max_contacts, swarm));
+  PetscCall(ParticlesCreate(PetscObjectComm((PetscObject)dem->pgrid->da_vertex), *dem->dom, *dem->pgrid, dem->par.max_contacts,
+                            dem->contact.history_size, swarm));
   PetscFunctionReturn(0);
 }
 

@@ -256,7 +256,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
     p.id[k]    = g.id[i];
     for (PetscInt s = 0; s < p.K; ++s) {
       p.ckey[p.K * k + s] = kFreeSlot;
-      for (PetscInt c = 0; c < kHistoryStride; ++c) p.chist[kHistoryStride * (p.K * k + s) + c] = 0.0;
+      for (PetscInt c = 0; c < p.hs; ++c) p.chist[p.hs * (p.K * k + s) + c] = 0.0;
     }
   }
   PetscCall(ParticleArraysRestore(sw, &p));

@@ -27,7 +27,7 @@ PetscErrorCode ParticlePropsSetFromOptions(MPI_Comm comm, const Domain &dom, Par
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &pg, PetscInt K, DM *swarm)
+PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &pg, PetscInt K, PetscInt hs, DM *swarm)
 {
   DM sw;
 
@@ -45,7 +45,7 @@ PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &dom, const ParticleG
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::diameter, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::id, 1, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::contact_key, K, PETSC_INT64));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::contact_hist, kHistoryStride * K, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::contact_hist, hs * K, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_coef, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_ref, 3, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sw, field::drag_cell, 1, PETSC_INT64));
@@ -57,7 +57,7 @@ PetscErrorCode ParticlesCreate(MPI_Comm comm, const Domain &dom, const ParticleG
 
 PetscErrorCode ParticleArraysGet(DM sw, ParticleArrays *a)
 {
-  PetscInt bs;
+  PetscInt bs, hbs;
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetLocalSize(sw, &a->n));
@@ -70,11 +70,12 @@ PetscErrorCode ParticleArraysGet(DM sw, ParticleArrays *a)
   PetscCall(DMSwarmGetField(sw, field::diameter, NULL, NULL, (void **)&a->d));
   PetscCall(DMSwarmGetField(sw, field::id, NULL, NULL, (void **)&a->id));
   PetscCall(DMSwarmGetField(sw, field::contact_key, &bs, NULL, (void **)&a->ckey));
-  PetscCall(DMSwarmGetField(sw, field::contact_hist, NULL, NULL, (void **)&a->chist));
+  PetscCall(DMSwarmGetField(sw, field::contact_hist, &hbs, NULL, (void **)&a->chist));
   PetscCall(DMSwarmGetField(sw, field::drag_coef, NULL, NULL, (void **)&a->dcoef));
   PetscCall(DMSwarmGetField(sw, field::drag_ref, NULL, NULL, (void **)&a->dref));
   PetscCall(DMSwarmGetField(sw, field::drag_cell, NULL, NULL, (void **)&a->dcell));
-  a->K = bs;
+  a->K  = bs;
+  a->hs = hbs / bs;
   PetscFunctionReturn(0);
 }
 
