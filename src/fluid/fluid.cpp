@@ -390,20 +390,20 @@ PetscErrorCode FluidView(Fluid *f, PetscViewer viewer)
     bcs += std::string(FluidFaceKeys[face]) + " " + (f->periodic[face / 2] ? "periodic" : FluidBCTypes[f->bc[face]]);
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "Gas boundaries: %s\n", bcs.c_str()));
-  if (f->inflow_rate != 0 || !f->jets.empty())
-    PetscCall(PetscViewerASCIIPrintf(
-      viewer, "Gas inlet: distributor %.6g m/s, %d slit(s), inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
-      (double)f->inlet_velocity, (int)f->jets.size(), (double)f->inflow_rate,
-      (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
+  if (f->inflow_rate != 0 || !f->inlet.openings.empty())
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Gas inlet: %s, inflow %.6g m^3/s (%.6g m/s superficial over the bottom)\n",
+                                     f->inlet.summary.c_str(), (double)f->inflow_rate,
+                                     (double)(f->inflow_rate / (f->dom->len[0] * f->dom->len[2]))));
   if (f->inlet_ramp > 0)
     PetscCall(PetscViewerASCIIPrintf(viewer,
                                      "  ramped up linearly over the first %.6g s (-inlet_ramp_time); the gas step limits count the "
                                      "inlet at full speed\n",
                                      (double)f->inlet_ramp));
-  for (std::size_t s = 0; s < f->jets.size(); ++s)
+  const std::vector<kernels::JetCells> &jets = f->inlet.openings;
+  for (std::size_t s = 0; s < jets.size(); ++s)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  slit %d: x = %.6g..%.6g mm (cells %ld..%ld), %.6g m/s\n", (int)s + 1,
-                                     1e3 * (f->dom->lo[0] + f->jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + f->jets[s].last * f->h[0]),
-                                     f->jets[s].first, f->jets[s].last - 1, f->jets[s].velocity));
+                                     1e3 * (f->dom->lo[0] + jets[s].first * f->h[0]), 1e3 * (f->dom->lo[0] + jets[s].last * f->h[0]),
+                                     jets[s].first, jets[s].last - 1, jets[s].velocity));
   PetscCall(FluidMaxTimeStep(f, &dt));
   {
     char conv[32] = "inf (gas at rest)";

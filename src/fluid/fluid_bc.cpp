@@ -1,8 +1,10 @@
 // Gas boundary conditions: the options of each face and of the bottom inlet, the boundary face velocities, and the
 // ghost layers beyond the walls that let the interior stencils run unchanged up to the boundary.
 #include "fluid_impl.hpp"
+#include "fluidbed/inlets.hpp"
 #include "fluidbed/options.hpp"
 
+#include <algorithm>
 #include <string>
 
 namespace fluidbed {
@@ -17,53 +19,12 @@ bool TopIsOutlet(const Fluid *f)
   return !f->periodic[1] && (f->bc[FACE_YHI] == FLUID_BC_OUTLET || f->bc[FACE_YHI] == FLUID_BC_PRESSURE);
 }
 
-// The bottom slits: centre, width, velocity triplets, checked against the fluid cells along x.
-PetscErrorCode ReadJets(Fluid *f, const PetscReal *vals, PetscInt n)
-{
-  const PetscReal h = f->h[0], x0 = f->dom->lo[0];
-
-  PetscFunctionBeginUser;
-  PetscCheck(n % 3 == 0, f->comm, PETSC_ERR_USER_INPUT,
-             "-inlet_jets takes centre,width,velocity for each slit (a multiple of 3 values), got %d values", (int)n);
-  for (PetscInt s = 0; s < n / 3; ++s) {
-    const PetscReal c = vals[3 * s], w = vals[3 * s + 1], v = vals[3 * s + 2];
-    PetscCheck(w > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "-inlet_jets: jet %d has width %.6g m: allowed (0, %.6g] m", (int)s + 1, (double)w,
-               (double)f->dom->len[0]);
-    const kernels::JetSnap snap = kernels::snap_jet(c, w, x0, h, f->n[0]);
-    PetscCheck(snap.inside, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "-inlet_jets: jet %d (centre %.6g mm, width %.6g mm) extends beyond the bottom, x = %.6g..%.6g mm", (int)s + 1, 1e3 * c,
-               1e3 * w, 1e3 * x0, 1e3 * f->dom->hi[0]);
-    if (!snap.ok) {
-      if (snap.centre_ok)
-        SETERRQ(f->comm, PETSC_ERR_USER_INPUT,
-                "-inlet_jets: jet %d (centre %.4f mm, width %.4f mm): its edges x = %.4f and %.4f mm do not fall on cell faces (fluid "
-                "cells of %.6f mm along x); "
-                "the nearest valid width is %.8g m (%ld cells)",
-                (int)s + 1, 1e3 * c, 1e3 * w, 1e3 * (c - 0.5 * w), 1e3 * (c + 0.5 * w), 1e3 * h, (double)snap.nearest_width,
-                snap.nearest_cells);
-      SETERRQ(f->comm, PETSC_ERR_USER_INPUT,
-              "-inlet_jets: jet %d (centre %.4f mm, width %.4f mm): its edges x = %.4f and %.4f mm do not fall on cell faces (fluid cells "
-              "of %.6f mm along x), "
-              "and no width does at this centre; the nearest valid centre is %.8g m, with widths that are whole numbers of cells (nearest "
-              "%.8g m)",
-              (int)s + 1, 1e3 * c, 1e3 * w, 1e3 * (c - 0.5 * w), 1e3 * (c + 0.5 * w), 1e3 * h, (double)snap.nearest_centre,
-              (double)(std::max(1.0, std::round(w / h)) * h));
-    }
-    for (std::size_t q = 0; q < f->jets.size(); ++q)
-      PetscCheck(snap.last <= f->jets[q].first || snap.first >= f->jets[q].last, f->comm, PETSC_ERR_USER_INPUT,
-                 "-inlet_jets: jets %d and %d overlap", (int)q + 1, (int)s + 1);
-    f->jets.push_back({snap.first, snap.last, v});
-  }
-  PetscFunctionReturn(0);
-}
-
 } // namespace
 
 PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
 {
-  PetscReal jets[96] = {0};
-  PetscInt  njets    = 96;
-  PetscBool set_bc[FACE_COUNT]{}, set_jets = PETSC_FALSE, set_inlet = PETSC_FALSE;
+  char      inlet_type[64] = "slits";
+  PetscBool set_bc[FACE_COUNT]{};
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(f->comm, "fluid_bc_", "Gas boundary conditions of each face (x/y/z lo/hi; periodic faces come from -domain_periodic_*)",
@@ -89,33 +50,51 @@ PetscErrorCode FluidReadBoundaryOptions(Fluid *f)
   }
   PetscOptionsEnd();
 
-  PetscOptionsBegin(f->comm, "inlet_", "Gas inlet through the bottom (y = 0): a porous distributor and slits (jets) through the depth",
-                    "Fluid");
-  PetscCall(OptionsReal(PetscOptionsObject, "-velocity",
-                        "Superficial gas velocity through the distributor (the bottom outside the slits; 0: a wall)", "m/s",
-                        Closed(-1e3, 1e3), &f->inlet_velocity, &set_inlet));
-  PetscCall(OptionsRealArray(PetscOptionsObject, "-jets",
-                             "Slits through the depth: centre x [m], width [m], superficial velocity [m/s] of each, comma-separated",
-                             "m,m,m/s", Closed(-1e4, 1e4), jets, &njets, PETSC_FALSE, &set_jets));
+  PetscOptionsBegin(f->comm, "inlet_", "Gas inlet through the bottom (y = 0)", "Fluid");
+  {
+    PetscFunctionList types;
+    PetscCall(InletList(&types));
+    PetscCall(PetscOptionsFList("-type", "Inlet type (slits: a porous distributor and slits through the depth, the seed's)",
+                                "InletRegister", types, inlet_type, inlet_type, sizeof(inlet_type), NULL));
+  }
   PetscCall(OptionsReal(PetscOptionsObject, "-ramp_time",
                         "Time over which the distributor and slit velocities grow linearly from 0 to their values (0: at full speed "
                         "from the start; a packed bed hit by a full jet at once can be launched as a slug)",
                         "s", NonNegative(1e6), &f->inlet_ramp, NULL));
   PetscOptionsEnd();
 
-  if (set_jets) PetscCall(ReadJets(f, jets, njets));
-  const bool inflow = f->inlet_velocity != 0 || !f->jets.empty();
+  {
+    InletFace face;
+    face.comm = f->comm;
+    face.dom  = f->dom;
+    for (int a = 0; a < 3; ++a) {
+      face.n[a] = f->n[a];
+      face.h[a] = f->h[a];
+    }
+    PetscCall(InletSetUp(inlet_type, face, &f->inlet));
+  }
+  const bool inflow =
+    !f->inlet.openings.empty() || std::any_of(f->inlet.velocity.begin(), f->inlet.velocity.end(), [](PetscReal v) { return v != 0; });
   PetscCheck(!inflow || !f->periodic[1], f->comm, PETSC_ERR_USER_INPUT,
              "-inlet_velocity / -inlet_jets need a bottom, but y is periodic (-domain_periodic_y)");
   PetscCheck(!inflow || TopIsOutlet(f), f->comm, PETSC_ERR_USER_INPUT,
              "gas flows in through the bottom (-inlet_velocity / -inlet_jets) but the top is closed: set -fluid_bc_yhi outlet (uniform, "
              "the seed's) or pressure");
-  f->inlet      = kernels::inlet_profile(f->n[0], f->inlet_velocity, f->jets);
-  PetscReal sum = 0;
-  for (PetscReal v : f->inlet) sum += v;
-  f->inflow_rate   = sum * f->area[1] * f->n[2];
+  // The inflow: each row along z summed over x; rows that all carry the same flow (slits through the depth) count as
+  // one row's times n_z.
+  {
+    const PetscInt         nx = f->n[0], nz = f->n[2];
+    std::vector<PetscReal> rows((std::size_t)nz, 0.0);
+    for (PetscInt k = 0; k < nz; ++k)
+      for (PetscInt i = 0; i < nx; ++i) rows[(std::size_t)k] += f->inlet.velocity[(std::size_t)(i + nx * k)];
+    if (std::all_of(rows.begin(), rows.end(), [&](PetscReal r) { return r == rows[0]; })) f->inflow_rate = rows[0] * f->area[1] * nz;
+    else {
+      PetscReal sum = 0;
+      for (PetscReal r : rows) sum += r;
+      f->inflow_rate = sum * f->area[1];
+    }
+  }
   f->has_dirichlet = (PetscBool)(!f->periodic[1] && f->bc[FACE_YHI] == FLUID_BC_PRESSURE);
-  (void)set_inlet;
   PetscFunctionReturn(0);
 }
 
@@ -224,7 +203,8 @@ PetscErrorCode FluidSetBoundaryFaces(Fluid *f, PetscReal dt, PetscBool extrapola
     hi[a] = 1;
     for (PetscInt k = lo[2]; k < hi[2]; ++k)
       for (PetscInt j = lo[1]; j < hi[1]; ++j)
-        for (PetscInt i = lo[0]; i < hi[0]; ++i) u(i, j, k, a) = a == 1 ? scale * f->inlet[i] / e(i, j, k) : 0.0;
+        for (PetscInt i = lo[0]; i < hi[0]; ++i)
+          u(i, j, k, a) = a == 1 ? scale * f->inlet.velocity[(std::size_t)(i + f->n[0] * k)] / e(i, j, k) : 0.0;
   }
   // top outlet
   if (TopIsOutlet(f) && f->xs[1] + f->xm[1] == f->n[1]) {

@@ -14,6 +14,7 @@
 
 #include "fluidbed/dmda_field.hpp"
 #include "fluidbed/fluid.hpp"
+#include "fluidbed/inlets.hpp"
 #include "fluidbed/kernels/fluid_flux.hpp"
 
 namespace fluidbed {
@@ -66,14 +67,12 @@ struct Fluid {
   PetscBool        has_bed = PETSC_FALSE;
 
   // boundary conditions (-fluid_bc_*, -inlet_*)
-  FluidBC                        bc[FACE_COUNT]{};
-  PetscReal                      wall_velocity[FACE_COUNT][3]{};
-  PetscReal                      inlet_velocity = 0; // superficial, through the distributor part of the bottom
-  std::vector<kernels::JetCells> jets;
-  std::vector<PetscReal>         inlet;                       // superficial inflow velocity of each bottom cell along x
-  PetscReal                      inflow_rate   = 0;           // m^3/s, from the inlet profile
-  PetscReal                      inlet_ramp    = 0;           // s: the inflow grows linearly from 0 over this time (0: none)
-  PetscBool                      has_dirichlet = PETSC_FALSE; // a pressure outlet
+  FluidBC   bc[FACE_COUNT]{};
+  PetscReal wall_velocity[FACE_COUNT][3]{};
+  Inlet     inlet;                       // -inlet_type: the bottom face's profile (inlets.hpp)
+  PetscReal inflow_rate   = 0;           // m^3/s, from the inlet profile
+  PetscReal inlet_ramp    = 0;           // s: the inflow grows linearly from 0 over this time (0: none)
+  PetscBool has_dirichlet = PETSC_FALSE; // a pressure outlet
 
   // grids and fields
   DM  da_s = nullptr; // scalar, box stencil 2, ghosted: eps, eps_old

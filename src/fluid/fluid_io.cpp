@@ -97,7 +97,8 @@ PetscErrorCode FluidGetJetSlots(const Fluid *f, std::vector<std::array<PetscReal
 {
   PetscFunctionBeginUser;
   slots->clear();
-  for (const kernels::JetCells &j : f->jets) slots->push_back({f->dom->lo[0] + j.first * f->h[0], f->dom->lo[0] + j.last * f->h[0]});
+  for (const kernels::JetCells &j : f->inlet.openings)
+    slots->push_back({f->dom->lo[0] + j.first * f->h[0], f->dom->lo[0] + j.last * f->h[0]});
   PetscFunctionReturn(0);
 }
 

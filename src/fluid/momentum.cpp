@@ -248,7 +248,7 @@ PetscErrorCode FluidInletRampRate(Fluid *f, PetscReal *conv)
   if (f->xs[1] == 0) { // the ranks holding the bottom row
     DMDAField e;
     PetscReal vmax = 0, emin = 1;
-    for (PetscReal v : f->inlet) vmax = PetscMax(vmax, PetscAbsReal(v));
+    for (PetscReal v : f->inlet.velocity) vmax = PetscMax(vmax, PetscAbsReal(v));
     PetscCall(DMDAFieldGet(f->da_p, f->eps, PETSC_FALSE, &e));
     for (PetscInt k = f->xs[2]; k < f->xs[2] + f->xm[2]; ++k)
       for (PetscInt i = f->xs[0]; i < f->xs[0] + f->xm[0]; ++i) emin = PetscMin(emin, e(i, 0, k));
