@@ -80,8 +80,14 @@ PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
               continue; // otherwise the normal velocity is given: no pressure flux
             }
             const PetscReal coef = W[a * N + (side ? p + sa : p)]; // the shared face, as the lower face of its upper cell
-            col[n]               = {k + d * (a == 2), j + d * (a == 1), i + d * (a == 0), 0};
-            val[n++]             = -coef;
+            if (side && f->periodic[a] && f->n[a] == 2) {
+              // two periodic cells along a: both faces join the same pair, one entry (MatSetValues would keep only the last)
+              val[n - 1] -= coef;
+              diag += coef;
+              continue;
+            }
+            col[n]   = {k + d * (a == 2), j + d * (a == 1), i + d * (a == 0), 0};
+            val[n++] = -coef;
             diag += coef;
           }
         }
