@@ -70,6 +70,8 @@ PetscErrorCode FluidGetMomentumSource(Fluid *fluid, Vec *source);
 PetscErrorCode FluidGetDragCoefficient(Fluid *fluid, Vec *beta);
 PetscErrorCode FluidGetCellVelocity(Fluid *fluid, Vec *velocity); // computed from the faces at each call
 PetscErrorCode FluidGetPressure(Fluid *fluid, Vec *p);
+// The pressure operator as last assembled (the set-up's until a solve reassembles it), borrowed: for tests.
+PetscErrorCode FluidGetPressureMatrix(Fluid *fluid, Mat *A);
 // The DMDAs of the cell fields above: dof 1 (eps, pressure) and dof dim (velocity, source).
 PetscErrorCode    FluidGetCellDMs(Fluid *fluid, DM *scalar, DM *vector);
 const FluidStats &FluidGetStats(const Fluid *fluid);

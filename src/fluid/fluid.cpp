@@ -340,6 +340,13 @@ PetscErrorCode FluidGetPressure(Fluid *f, Vec *p)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidGetPressureMatrix(Fluid *f, Mat *A)
+{
+  PetscFunctionBeginUser;
+  *A = f->A;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidGetCellDMs(Fluid *f, DM *scalar, DM *vector)
 {
   PetscFunctionBeginUser;

@@ -80,8 +80,14 @@ PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
               continue; // otherwise the normal velocity is given: no pressure flux
             }
             const PetscReal coef = W[a * N + (side ? p + sa : p)]; // the shared face, as the lower face of its upper cell
-            col[n]               = {k + d * (a == 2), j + d * (a == 1), i + d * (a == 0), 0};
-            val[n++]             = -coef;
+            if (side && f->periodic[a] && f->n[a] == 2) {
+              // two periodic cells along a: both faces join the same pair, one entry (MatSetValues would keep only the last)
+              val[n - 1] -= coef;
+              diag += coef;
+              continue;
+            }
+            col[n]   = {k + d * (a == 2), j + d * (a == 1), i + d * (a == 0), 0};
+            val[n++] = -coef;
             diag += coef;
           }
         }
@@ -132,8 +138,14 @@ PetscErrorCode AIJValuesRestore(Mat M, AIJValues *v)
 
 PetscErrorCode AssembleThroughStencils(Fluid *f, Mat M, PetscReal dt)
 {
+  PetscBool structured;
+
   PetscFunctionBeginUser;
-  PetscCall(MatZeroEntries(M));
+  // PETSc 3.18's MatZeroEntries of a MATHYPRESTRUCT writes outside hypre's arrays on ranks with small boxes (valgrind:
+  // hypre_StructMatrixClearBoxValues; a crash on 4 x 4 x 4 cells over 4 ranks). It is not needed there: hypre's matrix
+  // starts from zeros and every assembly inserts the same entries of every row.
+  PetscCall(PetscObjectTypeCompare((PetscObject)M, MATHYPRESTRUCT, &structured));
+  if (!structured) PetscCall(MatZeroEntries(M));
   PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *val) {
     return MatSetValuesStencil(M, 1, &r, n, col, val, INSERT_VALUES); // each row once, whole
   }));

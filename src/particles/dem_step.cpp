@@ -49,6 +49,19 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
     PetscCheck(!dom.periodic[a] || dom.len[a] >= 2.0 * d->halo, comm, PETSC_ERR_USER_INPUT,
                "periodic length %.6g m along axis %d is shorter than two contact cutoffs (%.6g m): enlarge the domain", (double)dom.len[a],
                a, (double)(2.0 * d->halo));
+  // Ghosts go to the neighbouring subdomains only (ghosts.cpp): a subdomain narrower than the ghost layer would let
+  // a pair within the neighbour-list cutoff straddle it unseen, and its contact be missed.
+  for (int a = 0; a < dom.dim; ++a)
+    for (PetscInt r = 0; r < pgrid.procs[a] && pgrid.procs[a] > 1; ++r) {
+      const PetscInt  cells = pgrid.start[a][(std::size_t)r + 1] - pgrid.start[a][(std::size_t)r];
+      const PetscReal width = cells * pgrid.h[a];
+      PetscCheck(
+        width >= d->halo, comm, PETSC_ERR_USER_INPUT,
+        "the subdomain of process %d of %d along %c is %.6g m wide (%d particle cells), narrower than the ghost layer d_max + skin "
+        "= %.6g m: ghosts reach the neighbouring subdomains only, and contacts across it would be missed; use fewer ranks along %c "
+        "(-pgrid_processors), larger particle cells (-pgrid_cell_diameters, -pgrid_ratio) or a smaller -dem_skin",
+        (int)r, (int)pgrid.procs[a], "xyz"[a], (double)width, (int)cells, (double)d -> halo, "xyz"[a]);
+    }
   PetscCallMPI(MPI_Type_contiguous((int)(sizeof(ContactBody) / sizeof(PetscReal)), MPIU_REAL, &d->ghosts.body_type));
   PetscCallMPI(MPI_Type_commit(&d->ghosts.body_type));
   *dem = d;

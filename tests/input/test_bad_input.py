@@ -75,6 +75,12 @@ check_cases([(["-t_final", "0", "-dem_kn"], ["-dem_kn", "without a value"]), (["
 check_cases([(["-fluid", "-domain_dim", "2", "-domain_lx", "0.01", "-domain_ly", "0.02", "-domain_lz", "0.001", "-insert_count", "50"],
                     ["-grid_nx 3", "2 ranks", "at least 2 per rank"])], ranks=(2,))
 
+# A subdomain narrower than the ghost layer (ghosts reach the neighbouring subdomains only): 3 particle cells of one
+# diameter over 2 ranks leave one of them a single cell, 1 mm, under d + skin = 1.1 mm.
+check_cases([(["-domain_dim", "2", "-domain_lx", "0.003", "-domain_ly", "0.02", "-domain_lz", "0.001", "-pgrid_cell_diameters", "1",
+               "-insert_count", "20"], ["process 1 of 2 along x", "narrower than the ghost layer", "-pgrid_processors", "-dem_skin"])],
+            ranks=(2,))
+
 # -restart files: a real checkpoint of a small 2D scene, cut to half, an empty file, random bytes, a snapshot,
 # and checkpoints of another scene.
 scene = ["-domain_dim", "2", "-domain_lx", "0.02", "-domain_ly", "0.02", "-domain_lz", "0.001", "-insert_count", "50"]
