@@ -4,11 +4,10 @@ Ergun/Wen-Yu blend (eq. 2.11-2.17) at the particle cell's void fraction, Model B
 analytic value solves K(u) u = (rho_p - rho_g) g by bisection; the run must match it within 1%."""
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 d, rho_p, rho_g, mu, g = 1e-3, 2500.0, 1.205, 1.8e-5, 9.81
 U = 6.77                                       # superficial inlet velocity of the example

@@ -11,14 +11,13 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import h5py
 import matplotlib.image
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 CHECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_check.py")
 INSTALL = ("scripts/test.sh installs them (FLUIDBED_TEST_PACKAGES in scripts/setup.sh), or: "

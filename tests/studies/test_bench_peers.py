@@ -6,15 +6,11 @@ numbers, y vertical, the process grid that never splits y), the log and dump rea
 physics check that makes the benchmark fail. No timing: speed targets live in the benchmark."""
 import math
 import os
-import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
-
-sys.path.insert(0, os.path.join(t.SRC, "scripts"))
 import bench_peers as bp
+from fluidbed_tools import testing as t
 
 # --- the contact law: 0.75 mm glass, k_n 800 N/m, e 0.9 (docs/dem.md, /work/shared/peer-benchmarks.md) ---
 p = bp.bed_params(t.example("dem/bed750.opts"))
