@@ -5,6 +5,7 @@ computed here from the scene's particles, and, where the seed quotes it, t_cr it
 import math
 import re
 
+from fluidbed_tools import reference
 from fluidbed_tools import testing as t
 
 # scene: (particles, superficial velocity m/s, diameter m, density kg/m^3, e, t_cr quoted by the seed or None)
@@ -29,9 +30,7 @@ KN = 800.0  # N/m, every table
 
 def t_cr(d, rho, e):
     """Seed eq. 3.2-3.3 for a pair of equal spheres."""
-    m_eff = 0.5 * rho * math.pi / 6 * d**3
-    gamma = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
-    return math.pi / math.sqrt(KN * (1 - gamma**2) / m_eff)
+    return reference.contact_time(KN, e, 0.5 * rho * math.pi / 6 * d**3)
 
 
 def number(pattern, text, what):

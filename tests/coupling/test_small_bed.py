@@ -10,6 +10,7 @@ import os
 
 import numpy as np
 
+from fluidbed_tools import reference
 from fluidbed_tools import testing as t
 
 d, rho_p, mu, rho_g, g = 1.2e-3, 1000.0, 1.8e-5, 1.205, 9.81
@@ -19,7 +20,7 @@ N = 3000
 
 
 def ergun_gradient(eps, U):
-    return 150 * (1 - eps) ** 2 * mu * U / (eps ** 3 * d * d) + 1.75 * (1 - eps) * rho_g * U * U / (eps ** 3 * d)
+    return reference.ergun_gradient(eps, U, d, mu, rho_g)
 
 
 def balance(mon, label):
