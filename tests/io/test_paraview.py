@@ -76,7 +76,8 @@ for label, opts, args, dim in scenes:
     # ParaView
     report, picture = os.path.join(out, "paraview.json"), os.path.join(out, "particles_over_void_fraction.png")
     start = time.time()
-    p = subprocess.run([XVFB, "-a", PVBATCH, CHECK, out, report, picture] + ["%.17g" % v for v in box], capture_output=True, text=True, timeout=300)
+    p = subprocess.run([XVFB, "-a", PVBATCH, CHECK, out, report, picture, "--box=" + ",".join("%.17g" % v for v in box)], capture_output=True, text=True,
+                       timeout=300)
     pv_s = time.time() - start
     text = p.stdout + p.stderr
     if "No module named 'paraview'" in text:
