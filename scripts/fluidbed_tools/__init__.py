@@ -12,6 +12,8 @@ Modules:
 How it is found: the package sits in scripts/, and Python puts a script's own directory first on sys.path, so every
 scripts/*.py imports it (`from fluidbed_tools import study`) with nothing on its path set by hand, however it is
 started (scripts/x.py, python3 scripts/x.py, from a shell script). The tests get PYTHONPATH=<source>/scripts from
-tests/CMakeLists.txt (FLUIDBED_TEST_ENV); to run a test by hand, set it likewise:
-  PYTHONPATH=scripts FLUIDBED_EXE=build/fluidbed /usr/bin/python3 tests/dem/test_head_on.py
+tests/CMakeLists.txt (FLUIDBED_TEST_ENV), which also lets them import the scripts they test (umf_sweep, jet_fountain,
+bench_peers); a test's helper beside it (tests/fluid/gas.py, tests/analysis/analysis_files.py) is found as a
+script's neighbour. To run a test by hand (its outputs go to the current directory):
+  cd build && PYTHONPATH=../scripts /usr/bin/python3 ../tests/dem/test_sliding_sphere.py
 No file inserts paths into sys.path."""
