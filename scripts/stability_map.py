@@ -232,7 +232,7 @@ def settle(args):
     without gas for --settle seconds."""
     path = os.path.join(args.out, "settled", "particles.csv")
     s, status, _, reused = study.run(["-options_file", SCENE, "-fluid", "0", "-t_final", args.settle, "-output_particles", "1",
-                                        "-domain_top_outlet", "0"], os.path.dirname(path), args.ranks, args.exe)
+                                      "-domain_top_outlet", "0"], os.path.dirname(path), args.ranks, args.exe)
     if status != 0:
         sys.exit("stability_map: settling the bed failed (exit %d), see %s/stdout.txt" % (status, os.path.dirname(path)))
     mirror = path.replace(".csv", "_mirror.csv")

@@ -11,9 +11,9 @@ and the reductions per step. /proc/loadavg is recorded before and after each run
 
 Runs go straight through mpiexec (--oversubscribe when the ranks exceed the cores), or with --batch slurm as sbatch
 scripts (nodes, tasks and the process grid filled in), submitted with --submit and collected by a later call (or
---wait). A finished rank count is never rerun (scripts/fluidbed_tools/study.py), so the study resumes; --fresh measures again.
---model fits a cost model to the table (compute per particle and per cell, halo volume per rank surface, pressure
-reduction latency) and predicts the efficiency at 64-1024 ranks (docs/scaling.md).
+--wait). A finished rank count is never rerun (scripts/fluidbed_tools/study.py), so the study resumes; --fresh
+measures again. --model fits a cost model to the table (compute per particle and per cell, halo volume per rank
+surface, pressure reduction latency) and predicts the efficiency at 64-1024 ranks (docs/scaling.md).
 
 example:
   scripts/strong_scaling.py --scene examples/twogrid_750_jet1_u301.opts --settled bench/beds/bed750_settled.csv \\
