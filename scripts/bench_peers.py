@@ -42,7 +42,9 @@ import time
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from fluidbed_tools.reference import damping_ratio  # fluidbed's eq. 3.3 (docs/dem.md)
+from fluidbed_tools.run import ROOT
+
 CODES = ("fluidbed", "lammps", "liggghts")
 G = 9.81
 
@@ -83,12 +85,6 @@ def read_opts(path):
             parts = line.split(None, 1)
             opts[parts[0].lstrip("-")] = parts[1].strip() if len(parts) > 1 else ""
     return opts
-
-
-def damping_ratio(e):
-    """fluidbed's eq. 3.3 (docs/dem.md): zeta = -ln e / sqrt(pi^2 + ln^2 e)."""
-    le = math.log(e)
-    return -le / math.sqrt(math.pi ** 2 + le * le)
 
 
 def sphere_mass(d, rho):

@@ -4,20 +4,24 @@ restitution and contact duration of a head-on collision (examples/dem/head_on.op
 bouncing particle (examples/dem/bounce_e100.opts, bounce_e090.opts). The worst case over 8 contact phases (the
 instant a contact starts within a step) is reported. Prints markdown tables for docs/dem.md.
 
-    scripts/dem_accuracy.py [path/to/fluidbed]"""
+example:
+  scripts/dem_accuracy.py                  # build/fluidbed
+  scripts/dem_accuracy.py path/to/fluidbed"""
+import argparse
 import math
 import os
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tests", "dem"))
-import analytic  # noqa: E402
+from fluidbed_tools import reference
+from fluidbed_tools.run import EXE, ROOT, command
 
-EXE = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "fluidbed")
+ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1],
+                             formatter_class=argparse.RawDescriptionHelpFormatter)
+ap.add_argument("exe", nargs="?", default=EXE, help="the fluidbed executable (default $FLUIDBED_EXE, else build/fluidbed)")
+EXE = os.path.abspath(ap.parse_args().exe)
 FACTORS = (0.1, 0.05, 0.02, 0.01)
 PHASES = 8
 d, rho, kn = 1.2e-3, 1000.0, 800.0
@@ -26,14 +30,14 @@ m = rho * math.pi / 6 * d ** 3
 
 def run(opts, args, tmp):
     out = os.path.join(tmp, "run")
-    subprocess.run([EXE, "-options_file", os.path.join(ROOT, "examples", "dem", opts), "-output_dir", out, "-progress_interval", "0"]
-                   + [str(a) for a in args], check=True, capture_output=True)
+    subprocess.run(command(["-options_file", os.path.join(ROOT, "examples", "dem", opts), "-output_dir", out, "-progress_interval", "0"]
+                           + list(args), 1, EXE), check=True, capture_output=True)
     data = np.genfromtxt(os.path.join(out, "track.csv"), delimiter=",", names=True)
     return data
 
 
 def head_on(e, f, phase, tmp):
-    gap = 0.8e-3 + phase / PHASES * 0.5 * f * analytic.contact_time(kn, e, m / 2)  # shifts where the contact starts
+    gap = 0.8e-3 + phase / PHASES * 0.5 * f * reference.contact_time(kn, e, m / 2)  # shifts where the contact starts
     args = ["-dem_e", e, "-dem_dt_factor", f, "-insert_positions", "%.12g,0.005,0.005,%.12g,0.005,0.005" % (0.005 - 0.6e-3 - gap / 2, 0.005 + 0.6e-3 + gap / 2)]
     tr = run("head_on.opts", args, tmp)
     a, b = tr["id"] == 0, tr["id"] == 1
@@ -45,7 +49,7 @@ def head_on(e, f, phase, tmp):
     t_in = t[k_in - 1] + (t[k_in] - t[k_in - 1]) * (-ov[k_in - 1]) / (ov[k_in] - ov[k_in - 1])
     t_out = t[k_out - 1] + (t[k_out] - t[k_out - 1]) * ov[k_out - 1] / (ov[k_out - 1] - ov[k_out])
     e_meas = (v1[-1] - v0[-1]) / (v0[0] - v1[0])
-    return abs(e_meas / e - 1), abs((t_out - t_in) / analytic.contact_time(kn, e, m / 2) - 1)
+    return abs(e_meas / e - 1), abs((t_out - t_in) / reference.contact_time(kn, e, m / 2) - 1)
 
 
 def bounce(e, f, phase, n, tmp):
@@ -56,7 +60,7 @@ def bounce(e, f, phase, n, tmp):
     gap = tr["y"] - d / 2
     vy = tr["vy"]
     apex = gap[1:][(vy[:-1] > 0) & (vy[1:] <= 0)][:n]
-    ref = analytic.bounce_apexes(h0, n, kn, e, m, 9.81)
+    ref = reference.bounce_apexes(h0, n, kn, e, m, 9.81)
     return max(abs(a / r - 1) for a, r in zip(apex, ref))
 
 

@@ -18,7 +18,7 @@ volume-weighted mean, the same as sum v / sum N for equal particles). This leave
 import json
 import os
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import numpy as np
 
 

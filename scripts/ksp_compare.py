@@ -35,6 +35,8 @@ import subprocess
 import sys
 import time
 
+from fluidbed_tools.run import launcher
+
 
 def _need(modules):
     """Debian's packages live in Debian's Python: run under it when this Python lacks one of the modules."""
@@ -1038,7 +1040,7 @@ def main():
             if args.petsc_options:
                 cmd += ["--petsc-options"] + args.petsc_options
             if n > 1:
-                cmd = [args.mpiexec, "--allow-run-as-root", "--oversubscribe", "-n", str(n)] + cmd
+                cmd = launcher(n, args.mpiexec) + cmd
             before = "%.2f" % os.getloadavg()[0]
             print("ksp_compare: %d rank(s), load %s: %s" % (n, before, " ".join(cmd)), flush=True)
             p = subprocess.run(cmd, env=env)

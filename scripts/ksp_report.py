@@ -20,12 +20,11 @@ import json
 import os
 import re
 import shutil
-import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import ksp_compare as kc  # noqa: E402  (numpy only at import)
-import numpy as np  # noqa: E402
+import numpy as np
+
+import ksp_compare as kc  # numpy only at import
 
 
 def load_parts(paths):

@@ -1,14 +1,22 @@
 #!/usr/bin/env python3
 """Writes docs/options.md from `fluidbed -help`: every fluidbed option with its default, unit and range, grouped
-by the module that reads it. Run after changing options: scripts/options_doc.py [path/to/fluidbed]."""
+by the module that reads it. Run after changing options.
+
+example:
+  scripts/options_doc.py                  # build/fluidbed
+  scripts/options_doc.py path/to/fluidbed"""
+import argparse
 import os
 import re
 import subprocess
-import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EXE = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "fluidbed")
+from fluidbed_tools.run import EXE, ROOT
+
+ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1],
+                             formatter_class=argparse.RawDescriptionHelpFormatter)
+ap.add_argument("exe", nargs="?", default=EXE, help="the fluidbed executable (default $FLUIDBED_EXE, else build/fluidbed)")
+EXE = os.path.abspath(ap.parse_args().exe)
 # Option prefixes that belong to fluidbed (PETSc's own options are documented by PETSc).
 OURS = ("domain_", "gravity", "grid_", "pgrid_", "particle_", "particles", "dem_", "wall_", "insert_", "monitor_", "output_", "t_final",
         "max_steps", "progress_", "fluid", "inlet_", "outlet_", "couple_", "drag_", "average", "checkpoint_", "restart", "probe_", "analysis_", "guard_")

@@ -5,7 +5,7 @@ convective power (eq. 3.8) and diffusive power (eq. 3.9), from each run's analys
     scripts/plot_bars.py output/jet1 output/jet3 output/jet5 -o bars.png [--labels "1 jet,3 jets,5 jets"]"""
 import os
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import matplotlib.pyplot as plt
 import numpy as np
 

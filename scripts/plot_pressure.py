@@ -6,7 +6,7 @@
     scripts/plot_pressure.py output/run pressure.png"""
 import os
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import matplotlib.pyplot as plt
 import numpy as np
 

@@ -6,7 +6,7 @@ holding each, averaged over the depth); without either, a quarter, half and thre
 
     scripts/plot_profiles.py output/run profiles.png [--heights 0.01,0.03,0.06]"""
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import matplotlib.pyplot as plt
 import numpy as np
 

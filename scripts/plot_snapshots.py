@@ -7,7 +7,7 @@ snapshots (--ymax sets the top).
     scripts/plot_snapshots.py output/run snapshots.png [--snapshots 2,4,6,8] [--count 6] [--ymax 0.15]"""
 import os
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import h5py
 import matplotlib.pyplot as plt
 import numpy as np

@@ -5,7 +5,7 @@ fields are averaged over the depth. The plot shows the bed and a margin above it
 
     scripts/plot_velocity.py output/run velocity.png [--ymax 0.15]"""
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import matplotlib.pyplot as plt
 import numpy as np
 

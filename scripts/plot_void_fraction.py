@@ -5,7 +5,7 @@ particle grid). 3D fields are averaged over the depth. The plot shows the bed an
 
     scripts/plot_void_fraction.py output/run void.png [--snapshot N] [--ymax 0.15]"""
 
-import fbplot as fp
+from fluidbed_tools import plot as fp
 import matplotlib.pyplot as plt
 
 

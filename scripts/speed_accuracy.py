@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Speed against accuracy: error against cost for each knob on reference problems with a known answer.
 
-Problems (each point is one fluidbed run, resumable and parallel like the stability map: scripts/fbstudy.py):
+Problems (each point is one fluidbed run, resumable and parallel like the stability map: fluidbed_tools/study.py):
   bounce     a 1.2 mm sphere dropped 10 mm onto the floor, e = 0.7: the fifth apex against the analytic linear
-             spring-dashpot of the seed's k_n = 800 N/m (tests/dem/analytic.py); knobs -dem_dt_factor and -dem_kn (the
+             spring-dashpot of the seed's k_n = 800 N/m (fluidbed_tools/reference.py); knobs -dem_dt_factor and -dem_kn (the
              soft-spring trade: a softer spring allows a longer step and a larger overlap, both in the table);
   head_on    two spheres colliding at 1 m/s, e = 0.9: the measured restitution against e; knob -dem_dt_factor;
   packed     the small bed (examples/coupling/small_bed.opts) below U_mf at 0.15 m/s: the pressure drop against Ergun
@@ -30,18 +30,13 @@ import argparse
 import csv
 import math
 import os
-import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests", "dem"))
-import analytic  # noqa: E402
-import fbstudy  # noqa: E402
-import umf_sweep  # noqa: E402  (Ergun, the small bed's geometry and pressure probes)
+from fluidbed_tools import outputs, reference, run, study
+import umf_sweep  # the small bed's particles, geometry and pressure probes
 
-ROOT = fbstudy.ROOT
+ROOT = run.ROOT
 EX = os.path.join(ROOT, "examples")
 D, RHO = 1.2e-3, 1000.0  # the bounce and head-on particles (seed Table 2.1)
 M = RHO * math.pi / 6 * D ** 3
@@ -63,7 +58,7 @@ def bounce_error(out, k):
     gap, vy = tr["y"] - D / 2, tr["vy"]
     apex = gap[1:][(vy[:-1] > 0) & (vy[1:] <= 0)]
     # against the seed's spring (k_n = 800 N/m): a softer spring is the cheaper model whose error this measures
-    ref = analytic.bounce_apexes(0.01, 5, 800.0, 0.7, M, 9.81)
+    ref = reference.bounce_apexes(0.01, 5, 800.0, 0.7, M, 9.81)
     if len(apex) < 5:
         return float("nan"), 0.0
     return abs(apex[4] / ref[4] - 1), 0.0
@@ -112,7 +107,7 @@ def muller_error(out, k):
     """The time-averaged pressure drop (summary.json averages, from the distributor) against the buoyant bed weight per
     area, and its uncertainty: the standard error of the probes' pressure difference over the window by batch means (10
     batches, each longer than the bubble period)."""
-    s = fbstudy.summary(out)
+    s = outputs.summary(out)
     weight = s["particles_inserted"] * math.pi / 6 * 1.2e-3 ** 3 * (1000.0 - 1.205) * 9.81 / (0.044 * 0.01)
     dp = s["averages"]["pressure_drop_mean_Pa"]
     mon = read_table(os.path.join(out, "monitor.csv"))
@@ -253,7 +248,7 @@ def main():
     ap.add_argument("--png", default=os.path.join(ROOT, "docs", "figures", "speed_accuracy.png"))
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--exe", default=run.EXE)
     ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--ci", action="store_true", help="the bounce at three time steps")
     ap.add_argument("--report", action="store_true", help="tabulate and draw the finished points only (runs nothing)")
@@ -268,7 +263,7 @@ def main():
     def work(pt):
         name, knob, k = pt
         out = os.path.join(args.out, point_id(name, k))
-        s, status, wall, reused = fbstudy.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe, fresh=args.fresh)
+        s, status, wall, reused = study.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe, fresh=args.fresh)
         row = {"problem": name, "knob": knob, "id": point_id(name, k), "status": s["status"] if s else "failed", "exit_status": status}
         row.update(k)
         if s and s["status"] != "stopped" and s["time"] > 0:
@@ -283,10 +278,10 @@ def main():
     rows = []
     pts = points(problems, args.ci)
     if args.report:
-        pts = [pt for pt in pts if fbstudy.done(PROBLEMS[pt[0]]["options"](pt[2]), os.path.join(args.out, point_id(pt[0], pt[2])), args.ranks, args.exe)]
-    for pt, (row, reused) in fbstudy.run_all(pts, args.jobs, work):
+        pts = [pt for pt in pts if run.done(PROBLEMS[pt[0]]["options"](pt[2]), os.path.join(args.out, point_id(pt[0], pt[2])), args.ranks, args.exe)]
+    for pt, (row, reused) in study.run_all(pts, args.jobs, work):
         rows.append(row)
-        fbstudy.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
+        study.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
         if row["problem"] == "muller" and row["knob"] == "dt_factor" and pt[2] == PROBLEMS["muller"]["defaults"] and row["cost"] == row["cost"]:
             rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
     if derived:
@@ -304,7 +299,7 @@ def main():
     if not args.ci:
         os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
         plot(rows, args.png)
-    fbstudy.log("speed-accuracy: %d points; table %s" % (len(rows), args.csv))
+    study.log("speed-accuracy: %d points; table %s" % (len(rows), args.csv))
 
 
 if __name__ == "__main__":

@@ -27,10 +27,9 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import fbstudy  # noqa: E402
+from fluidbed_tools import run, study
 
-ROOT = fbstudy.ROOT
+ROOT = run.ROOT
 SCENE = os.path.join(ROOT, "examples", "stability", "jet750_2d.opts")
 CLOSED = os.path.join(ROOT, "examples", "dem", "granular_gas.opts")
 SCENE3D = os.path.join(ROOT, "examples", "twogrid_750_jet1_u301.opts")  # the seed's 3D bed, 50,000 particles
@@ -232,8 +231,8 @@ def settle(args):
     """The settled bed every point starts from (and its mirror image about the slit): the scene's particles settled
     without gas for --settle seconds."""
     path = os.path.join(args.out, "settled", "particles.csv")
-    s, status, _, reused = fbstudy.run(["-options_file", SCENE, "-fluid", "0", "-t_final", args.settle, "-output_particles", "1",
-                                        "-domain_top_outlet", "0"], os.path.dirname(path), args.ranks, args.exe)
+    s, status, _, reused = study.run(["-options_file", SCENE, "-fluid", "0", "-t_final", args.settle, "-output_particles", "1",
+                                      "-domain_top_outlet", "0"], os.path.dirname(path), args.ranks, args.exe)
     if status != 0:
         sys.exit("stability_map: settling the bed failed (exit %d), see %s/stdout.txt" % (status, os.path.dirname(path)))
     mirror = path.replace(".csv", "_mirror.csv")
@@ -249,14 +248,14 @@ def settle(args):
                 r[ivx] = repr(-float(r[ivx]))
                 r[iwz] = repr(-float(r[iwz]))
                 w.writerow(r)
-    fbstudy.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
+    study.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
     path3d = args.bed3d
     if "3d" in args.maps.split(",") and not path3d:
         path3d = os.path.join(args.out, "settled3d", "particles.csv")
-        s3, status, _, _ = fbstudy.run(["-options_file", BED3D, "-output_particles", "1"], os.path.dirname(path3d), max(args.ranks, 2), args.exe)
+        s3, status, _, _ = study.run(["-options_file", BED3D, "-output_particles", "1"], os.path.dirname(path3d), max(args.ranks, 2), args.exe)
         if status != 0:
             sys.exit("stability_map: settling the 3D bed failed (exit %d)" % status)
-        fbstudy.log("settled 3D bed: %d particles" % s3["particles"])
+        study.log("settled 3D bed: %d particles" % s3["particles"])
     return path, path3d
 
 
@@ -318,7 +317,7 @@ def main():
     ap.add_argument("--closed-time", type=float, default=0.01, help="bed time of the closed-box points (s)")
     ap.add_argument("--t3d", type=float, default=0.03, help="bed time of the 3D points (s)")
     ap.add_argument("--bed3d", default=None, help="a settled 3D bed (particles.csv of examples/dem/bed750.opts) instead of settling one")
-    ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--exe", default=run.EXE)
     ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--report", action="store_true", help="only tabulate and draw the points already finished (run nothing)")
     ap.add_argument("--ci", action="store_true", help="two points per method from a lattice (no settling), a short window")
@@ -331,19 +330,19 @@ def main():
 
     def work(p):
         outdir = os.path.join(args.out, point_id(p))
-        s, status, wall, reused = fbstudy.run(options(p, args, settled), outdir, args.ranks, args.exe, fresh=args.fresh)
+        s, status, wall, reused = study.run(options(p, args, settled), outdir, args.ranks, args.exe, fresh=args.fresh)
         return measure(p, s, status, wall, outdir, args), reused
 
     pts = points(maps, args.ci)
     if args.report:
-        pts = [p for p in pts if fbstudy.done(options(p, args, settled), os.path.join(args.out, point_id(p)), args.ranks, args.exe)]
+        pts = [p for p in pts if run.done(options(p, args, settled), os.path.join(args.out, point_id(p)), args.ranks, args.exe)]
     results = {}
     ref_point = [p for p in pts if point_id(p) == point_id(REFERENCE)] or ([] if args.ci else [REFERENCE])
     if ref_point and not args.ci and (not args.report or ref_point[0] in pts):  # the reference first: the others are judged against it
         results[("cell_dt", point_id(REFERENCE))] = work(REFERENCE)[0]
-    for p, (m, reused) in fbstudy.run_all([p for p in pts if (p["map"], point_id(p)) not in results], args.jobs, work):
+    for p, (m, reused) in study.run_all([p for p in pts if (p["map"], point_id(p)) not in results], args.jobs, work):
         results[(m["map"], m["id"])] = m
-        fbstudy.log("%-55s %-8s %s%s" % (m["id"], m.get("status"), m.get("guard", ""), " (reused)" if reused else " %.0f s" % m["wall_s"]))
+        study.log("%-55s %-8s %s%s" % (m["id"], m.get("status"), m.get("guard", ""), " (reused)" if reused else " %.0f s" % m["wall_s"]))
     ref = results.get(("cell_dt", point_id(REFERENCE)))
     tol = dict(THRESHOLDS)
     mirror = results.get(("cell_dt", point_id(dict(REFERENCE, tag="_mirror"))))
@@ -373,7 +372,7 @@ def main():
         os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
         plot(rows, args.png)
     counts = {c: sum(r["class"] == c for r in rows) for c in ("stable", "inaccurate", "unstable")}
-    fbstudy.log("stability map: %d points (%s); table %s" % (len(rows), ", ".join("%d %s" % (n, c) for c, n in counts.items()), args.csv))
+    study.log("stability map: %d points (%s); table %s" % (len(rows), ", ".join("%d %s" % (n, c) for c, n in counts.items()), args.csv))
 
 
 if __name__ == "__main__":

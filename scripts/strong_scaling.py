@@ -11,9 +11,9 @@ and the reductions per step. /proc/loadavg is recorded before and after each run
 
 Runs go straight through mpiexec (--oversubscribe when the ranks exceed the cores), or with --batch slurm as sbatch
 scripts (nodes, tasks and the process grid filled in), submitted with --submit and collected by a later call (or
---wait). A finished rank count is never rerun (scripts/fbstudy.py), so the study resumes; --fresh measures again.
---model fits a cost model to the table (compute per particle and per cell, halo volume per rank surface, pressure
-reduction latency) and predicts the efficiency at 64-1024 ranks (docs/scaling.md).
+--wait). A finished rank count is never rerun (scripts/fluidbed_tools/study.py), so the study resumes; --fresh
+measures again. --model fits a cost model to the table (compute per particle and per cell, halo volume per rank
+surface, pressure reduction latency) and predicts the efficiency at 64-1024 ranks (docs/scaling.md).
 
 example:
   scripts/strong_scaling.py --scene examples/twogrid_750_jet1_u301.opts --settled bench/beds/bed750_settled.csv \\
@@ -33,10 +33,9 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import fbstudy  # noqa: E402
+from fluidbed_tools import outputs, run, study
 
-ROOT = fbstudy.ROOT
+ROOT = run.ROOT
 STAGES = ["Neighbour search", "Contact", "Integrate", "Migrate", "Ghosts", "Fluid", "Pressure", "Coupling", "Output", "Guards"]
 KEYS = ["neighbour", "contact", "integrate", "migrate", "ghosts", "fluid", "pressure", "coupling", "output", "guards"]
 QUIET = ["-output_particles", "0", "-fluid_output_cells", "0", "-output_interval", "0", "-checkpoint_interval", "0", "-monitor_dt", "0",
@@ -113,29 +112,29 @@ def settle(args):
     o = ["-options_file", os.path.abspath(args.scene)] + QUIET[:-2] + ["-output_particles", "1", "-t_final", str(args.settle_time)]
     o += shlex.split(args.settle_extra or "")
     ranks = min(args.settle_ranks, ncores())
-    if not fbstudy.done(o, outdir, ranks, args.exe):
-        fbstudy.log("settling: %s" % " ".join(fbstudy.command(o, outdir, ranks, args.exe)))
-    s, status, wall, reused = fbstudy.run(o, outdir, ranks, args.exe, timeout=args.timeout)
+    if not run.done(o, outdir, ranks, args.exe):
+        study.log("settling: %s" % " ".join(run.point_command(o, outdir, ranks, args.exe)))
+    s, status, wall, reused = study.run(o, outdir, ranks, args.exe, timeout=args.timeout)
     path = os.path.join(outdir, "particles.csv")
     if status != 0 or not os.path.isfile(path):
         sys.exit("strong_scaling.py: the settling run failed (exit %d), see %s/stdout.txt" % (status, outdir))
-    fbstudy.log("settled bed: %s (%.0f s%s)" % (path, wall, ", reused" if reused else ""))
+    study.log("settled bed: %s (%.0f s%s)" % (path, wall, ", reused" if reused else ""))
     return path
 
 
 def run_direct(args, settled, ranks):
     outdir = os.path.join(os.path.abspath(args.out), "np%d" % ranks)
     o = point_options(args, settled, ranks, outdir)
-    if not args.fresh and fbstudy.done(o, outdir, ranks, args.exe):
-        fbstudy.log("%d ranks: finished run in %s (reused)" % (ranks, outdir))
+    if not args.fresh and run.done(o, outdir, ranks, args.exe):
+        study.log("%d ranks: finished run in %s (reused)" % (ranks, outdir))
         return outdir
     before = loadavg()
-    fbstudy.log("%d ranks%s: load %s" % (ranks, " (oversubscribed)" if ranks > ncores() else "", " ".join(before)))
-    s, status, wall, _ = fbstudy.run(o, outdir, ranks, args.exe, timeout=args.timeout, fresh=args.fresh)
+    study.log("%d ranks%s: load %s" % (ranks, " (oversubscribed)" if ranks > ncores() else "", " ".join(before)))
+    s, status, wall, _ = study.run(o, outdir, ranks, args.exe, timeout=args.timeout, fresh=args.fresh)
     after = loadavg()
     with open(os.path.join(outdir, "load.json"), "w") as f:
         json.dump({"before": before, "after": after, "cores": ncores(), "oversubscribed": ranks > ncores()}, f)
-    fbstudy.log("  %d ranks: exit %d, %.1f s, load after %s" % (ranks, status, wall, " ".join(after)))
+    study.log("  %d ranks: exit %d, %.1f s, load after %s" % (ranks, status, wall, " ".join(after)))
     return outdir
 
 
@@ -157,7 +156,7 @@ t0=$(date +%s.%N)
 status=$?
 t1=$(date +%s.%N)
 cat /proc/loadavg > load_after.txt
-# the record scripts/fbstudy.py keeps of a finished point (a later call collects it and never runs it again)
+# the record scripts/fluidbed_tools/study.py keeps of a finished point (a later call collects it and never runs it again)
 {python} -c 'import json, sys; a = sys.argv; json.dump({{"args": a[5:], "ranks": int(a[1]), "exit_status": int(a[2]), "wall_s": float(a[4]) - float(a[3])}}, open("command.json", "w"))' {ranks} $status $t0 $t1 {cmd}
 exit $status
 """
@@ -167,8 +166,8 @@ def write_sbatch(args, settled, ranks):
     """Writes <out>/np<R>/job.sbatch; returns (outdir, path, finished)."""
     outdir = os.path.join(os.path.abspath(args.out), "np%d" % ranks)
     o = point_options(args, settled, ranks, outdir)
-    cmd = fbstudy.command(o, outdir, 1, args.exe)  # the executable and its options; the launcher starts the ranks
-    if not args.fresh and fbstudy.finished_run(outdir, cmd):
+    cmd = run.point_command(o, outdir, 1, args.exe)  # the executable and its options; the launcher starts the ranks
+    if not args.fresh and run.finished_run(outdir, cmd):
         return outdir, None, True
     os.makedirs(outdir, exist_ok=True)
     for name in ("summary.json", "command.json", "log_view.txt"):
@@ -178,7 +177,7 @@ def write_sbatch(args, settled, ranks):
     nodes = max(1, math.ceil(ranks / per_node))
     procs = procs_for(args, ranks) or ("-pgrid_layout %s" % (args.layout or "horizontal"))
     if args.launcher == "mpiexec":  # Open MPI inside the allocation (one node)
-        launcher = "%s --allow-run-as-root --oversubscribe -n %d" % (fbstudy.MPIEXEC, ranks)
+        launcher = " ".join(run.launcher(ranks))
     else:
         launcher = args.launcher or "srun --mpi=pmix"
     text = SBATCH.format(ranks=ranks, nodes=nodes, per_node=min(per_node, ranks), outdir=outdir, minutes=args.minutes,
@@ -212,10 +211,10 @@ def wait_jobs(jobs, timeout):
 def row(outdir, ranks):
     """The table row of one finished run, or None."""
     try:
-        s = fbstudy.summary(outdir)
+        s = outputs.summary(outdir)
         stages, tot = parse_log_view(os.path.join(outdir, "log_view.txt"))
     except (OSError, ValueError) as e:
-        fbstudy.log("  %d ranks: no result in %s (%s)" % (ranks, outdir, e))
+        study.log("  %d ranks: no result in %s (%s)" % (ranks, outdir, e))
         return None
     steps = max(1, int(s.get("steps_this_run", s.get("steps", 1))))
     d = s.get("decomposition", {})
@@ -466,7 +465,7 @@ def main(argv=None):
     ap.add_argument("--layout", choices=["horizontal", "petsc"], help="-pgrid_layout of every run (default: fluidbed's)")
     ap.add_argument("--procs", default="", help="process grids per rank count, e.g. '2:1,2,1;4:2,2,1'")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "scaling"))
-    ap.add_argument("--exe", default=fbstudy.EXE)
+    ap.add_argument("--exe", default=run.EXE)
     ap.add_argument("--timeout", type=float, default=None)
     ap.add_argument("--fresh", action="store_true", help="run every rank count again")
     ap.add_argument("--batch", choices=["slurm"], help="write sbatch scripts instead of running")
@@ -493,16 +492,16 @@ def main(argv=None):
         for r in ranks:
             outdir, path, finished = write_sbatch(args, settled, r)
             if finished:
-                fbstudy.log("%d ranks: finished run in %s (reused)" % (r, outdir))
+                study.log("%d ranks: finished run in %s (reused)" % (r, outdir))
                 continue
-            fbstudy.log("%d ranks: %s" % (r, path))
+            study.log("%d ranks: %s" % (r, path))
             if args.submit:
                 jobs.append(submit(path))
-                fbstudy.log("  submitted as job %s" % jobs[-1])
+                study.log("  submitted as job %s" % jobs[-1])
         if jobs and args.wait > 0 and not wait_jobs(jobs, args.wait):
             sys.exit("strong_scaling.py: jobs %s still queued or running after %.0f s" % (",".join(jobs), args.wait))
         if jobs and args.wait <= 0:
-            fbstudy.log("submitted; call again (without --submit) to collect the table")
+            study.log("submitted; call again (without --submit) to collect the table")
             return 0
     else:
         for r in ranks:
@@ -517,9 +516,9 @@ def main(argv=None):
     try:
         plot(rows, os.path.join(args.out, "scaling.png"), args.title or os.path.basename(args.scene))
     except ImportError as e:
-        fbstudy.log("no plot: %s" % e)
+        study.log("no plot: %s" % e)
     if args.model:
-        s = fbstudy.summary(os.path.join(os.path.abspath(args.out), "np%d" % rows[0]["ranks"]))
+        s = outputs.summary(os.path.join(os.path.abspath(args.out), "np%d" % rows[0]["ranks"]))
         d = s.get("decomposition", {})
         it = s.get("fluid", {}).get("pressure_iterations_per_solve", 0.0)
         text, out = model_report(rows, sum(d.get("particles_per_rank", [0])), sum(d.get("fluid_cells_per_rank", [0])), it, args.model_d)

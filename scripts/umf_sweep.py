@@ -21,9 +21,8 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
+from fluidbed_tools import outputs, reference
+from fluidbed_tools.run import EXE, ROOT, command
 
 # the particles and gas of examples/coupling/small_bed.opts (seed Table 2.1)
 D, RHO_P, MU, RHO_G, G = 1.2e-3, 1000.0, 1.8e-5, 1.205, 9.81
@@ -33,18 +32,15 @@ LAYER, LAYERS = 0.06 / 18, 18  # m: the fluid grid's cell layers (-grid_ny 18 ov
 
 
 def ergun_gradient(eps, u):
-    """Ergun pressure gradient (Pa/m) through a packed bed of spheres at superficial velocity u (seed eq. 2.11,
-    seed-errata 1)."""
-    return 150 * (1 - eps) ** 2 * MU * u / (eps ** 3 * D * D) + 1.75 * (1 - eps) * RHO_G * u * u / (eps ** 3 * D)
+    """Ergun pressure gradient (Pa/m) through a packed bed of the Muller particles at superficial velocity u
+    (reference.ergun_gradient, seed eq. 2.11)."""
+    return reference.ergun_gradient(eps, u, D, MU, RHO_G)
 
 
 def ergun_umf(eps, d=D):
-    """Superficial velocity at which Ergun's pressure gradient carries the bed's buoyant weight,
-    (1 - eps)(rho_p - rho_g) g, for spheres of diameter d: the root of a quadratic."""
-    a = 1.75 * RHO_G / (eps ** 3 * d)
-    b = 150 * (1 - eps) * MU / (eps ** 3 * d * d)
-    c = -(RHO_P - RHO_G) * G
-    return (-b + math.sqrt(b * b - 4 * a * c)) / (2 * a)
+    """Ergun's minimum fluidization velocity of the Muller particles (spheres of diameter d) at voidage eps
+    (reference.ergun_umf)."""
+    return reference.ergun_umf(eps, d, RHO_P, RHO_G, MU, G)
 
 
 def sphere_volume_in_slab(y, d, lo, hi):
@@ -92,11 +88,6 @@ def layered_ergun_umf(particles, lx, lz, layer=LAYER, layers=LAYERS):
     return 0.5 * (lo + hi), eps
 
 
-def read_csv(path):
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return {n: np.atleast_1d(data[n]) for n in data.dtype.names}
-
-
 def bed_pressure_drop(mon):
     """Pressure drop across the bed (Pa) in each monitor row of a small_bed run, with its probes at the centres of
     the two lowest cells and one above the bed."""
@@ -127,7 +118,7 @@ def main():
     ap.add_argument("--step", type=float, default=0.3, help="bed time per velocity (s); the second half is averaged")
     ap.add_argument("--plateau-from", type=float, default=0.5, help="velocities at or above this form the plateau (m/s)")
     ap.add_argument("--np", type=int, default=1, help="MPI ranks")
-    ap.add_argument("--exe", default=os.environ.get("FLUIDBED_EXE", os.path.join(ROOT, "build", "fluidbed")))
+    ap.add_argument("--exe", default=EXE, help="the fluidbed executable (default $FLUIDBED_EXE, else build/fluidbed)")
     ap.add_argument("--reuse", action="store_true", help="keep the runs already in --out (same schedule) and run only the missing ones")
     ap.add_argument("--plot", default=None, help="PNG of the curve")
     ap.add_argument("--json", default=None, help="results as JSON")
@@ -143,17 +134,15 @@ def main():
     def run(outdir, t_final, extra):
         if args.reuse and os.path.isfile(os.path.join(outdir, "summary.json")):
             return
-        cmd = [args.exe, "-options_file", scene, "-output_dir", outdir, "-t_final", repr(t_final), "-checkpoint_interval", repr(t_final),
-               "-progress_interval", "0", "-output_particles", "1"] + extra
-        if args.np > 1:
-            cmd = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", str(args.np)] + cmd
+        cmd = command(["-options_file", scene, "-output_dir", outdir, "-t_final", repr(t_final), "-checkpoint_interval", repr(t_final),
+                       "-progress_interval", "0", "-output_particles", "1"] + extra, args.np, args.exe)
         p = subprocess.run(cmd, capture_output=True, text=True)
         if p.returncode:
             sys.exit("umf_sweep: fluidbed failed (%d): %s\n%s%s" % (p.returncode, " ".join(cmd), p.stdout[-2000:], p.stderr[-2000:]))
 
     settle = os.path.join(args.out, "settle")
     run(settle, args.settle, ["-inlet_velocity", "0"])
-    particles = read_csv(os.path.join(settle, "particles.csv"))
+    particles = outputs.table(os.path.join(settle, "particles.csv"))
     n = len(particles["id"])
     weight = n * math.pi / 6 * D ** 3 * (RHO_P - RHO_G) * G / (LX * LZ)
     beds = {"rising": packed_voidage(particles, LX, LZ) + layered_ergun_umf(particles, LX, LZ)}
@@ -165,14 +154,14 @@ def main():
         t_end = t + args.step
         out = os.path.join(args.out, "step%02d" % k)
         run(out, t_end, ["-restart", os.path.join(prev, "checkpoint.h5"), "-inlet_velocity", repr(u)])
-        mon = read_csv(os.path.join(out, "monitor.csv"))
+        mon = outputs.table(os.path.join(out, "monitor.csv"))
         late = mon["time"] >= t + 0.5 * args.step
         dp = bed_pressure_drop(mon)[late]
         rows.append({"branch": branch, "u": u, "dp": float(dp.mean()), "dp_std": float(dp.std()), "t0": t, "t1": t_end})
         print("%-8s U = %.3f m/s: pressure drop %7.2f Pa (rms %.2f) over t = %.2f..%.2f s" % (branch, u, dp.mean(), dp.std(), t + 0.5 * args.step, t_end))
         prev, t = out, t_end
     # the falling branch ends on the bed that settled as the gas slowed down
-    last = read_csv(os.path.join(prev, "particles.csv"))
+    last = outputs.table(os.path.join(prev, "particles.csv"))
     beds["falling"] = packed_voidage(last, LX, LZ) + layered_ergun_umf(last, LX, LZ)
 
     res = {"particles": n, "weight_per_area_Pa": weight, "steps": rows, "umf_seed_measured": SEED_UMF}

@@ -1,16 +1,14 @@
 """Helpers for the analysis tests: read a run's analysis.h5 (time-averaged fields, profiles, series, measures)."""
 import os
 
-import h5py
 import numpy as np
+
+from fluidbed_tools.outputs import read_h5
 
 
 def read(outdir):
     """analysis.h5 as a dict of numpy arrays keyed by dataset path without the leading slash."""
-    data = {}
-    with h5py.File(os.path.join(outdir, "analysis.h5"), "r") as f:
-        f.visititems(lambda name, obj: data.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
-    return data
+    return read_h5(os.path.join(outdir, "analysis.h5"))
 
 
 def measure(data, name):

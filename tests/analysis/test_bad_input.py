@@ -1,10 +1,6 @@
 """Bad averaging options end with a message naming the option and its allowed range, a nonzero exit status and
 no crash, on 1 and 2 ranks (default box: 40 mm high)."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 cases = [
     (["-average_interval", "-1e-3"], ["-average_interval", "out of range", "(0, 1e+06] s"]),

@@ -6,15 +6,13 @@ jets on 1 rank, the gas alone with a jet in 2D on 2 ranks, a DEM-only 2D bed on 
 ranks. -average_output_interval writes
 analysis.h5 during the run (counted through the AvgWrite event of -log_view)."""
 import os
-import sys
 import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import analysis_files as af
-import fbtest as t
 import h5py
 import numpy as np
+
+import analysis_files as af
+from fluidbed_tools import testing as t
 
 gas_2d = ["-particles", 0, "-fluid", "-domain_dim", 2, "-domain_lx", 0.02, "-domain_ly", 0.04, "-domain_lz", 0.005, "-grid_nx", 10,
           "-grid_ny", 20, "-inlet_jets", "0.01,0.004,2", "-fluid_bc_yhi", "outlet", "-t_final", 0.004, "-average", "-average_interval", 1e-3]

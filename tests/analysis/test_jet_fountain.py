@@ -15,8 +15,7 @@ import os
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 try:
     import h5py
@@ -24,7 +23,6 @@ try:
 except ImportError as e:
     print("SKIP: %s (h5py and numpy are dependencies: apt-get install python3-h5py python3-numpy)" % e)
     sys.exit(0)
-sys.path.insert(0, os.path.join(t.SRC, "scripts"))
 import jet_fountain as jf
 
 h = 0.004

@@ -5,14 +5,10 @@ eq. 5.2 solid fraction, eq. 4.3 cell velocity, eq. 3.4 granular temperature (n =
 horizontal solid mass flow at two heights, eq. 3.6-3.7 solid circulation (bed = cells with eps_s > 0.01; f_neg and
 |v_neg,avg| weighted by solid volume; h_exp from the occupied volume), eq. 3.8 convective and eq. 3.9 diffusive
 power (Mdot the magnitude of the cell's mass-flow vector), the expanded bed heights. On 1 and 2 ranks."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import analysis_files as af
-import fbtest as t
 import numpy as np
+
+import analysis_files as af
+from fluidbed_tools import testing as t
 
 mm = 1e-3
 # (x, y, z) in mm, (vx, vy, vz) in m/s

@@ -2,11 +2,7 @@
 each warning where a scene asks for more than it can use or less than it needs, provoked by a scene built for it
 (the default scene or small_bed with one option changed, one step each). The default scene and the shipped scenes
 below warn of nothing; tsuji_jet does (its single grid has cells of 2.5 d, Tsuji et al.'s own grid)."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 jet2d = t.example("jetted_bed_2d.opts")
 one = ["-max_steps", 1]

@@ -5,13 +5,11 @@ summary's averages (to their 10 printed digits). A coupled run with a jet (press
 continues the same way, to 1e-12, on 1 and on 2 ranks. A checkpoint written without averaging starts the averages at the restart."""
 import os
 import shutil
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import analysis_files as af
-import fbtest as t
 import numpy as np
+
+import analysis_files as af
+from fluidbed_tools import testing as t
 
 dem = ["-insert_type", "random", "-insert_count", 2000, "-insert_velocity_random", 0.3, "-insert_seed", 5,
        "-average_start", 0.005, "-average_interval", 0.002, "-average_heights", "0.005,0.02"]

@@ -5,14 +5,10 @@ the limit is 1e-13 |U|^2) in every cell where it is defined, the mean velocity (
 saw particles (1e-12 relative), the mean solid flux is <eps_s> U, and the whole-bed measures follow by hand:
 P_c = rho_p N V_p sum_i |U_i|^3 / h_i (eq. 3.8, since sum <eps_s> over cells is N V_p / V_cell), P_d = 0 (eq. 3.9),
 and with U_y < 0 the whole bed moves down: f_neg = 1, |v_neg| = |U_y| (eq. 3.6). On 1 and 2 ranks."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import analysis_files as af
-import fbtest as t
 import numpy as np
+
+import analysis_files as af
+from fluidbed_tools import testing as t
 
 U = np.array([0.3, -0.2, 0.1])
 rho, d, n = 2500.0, 1e-3, 400

@@ -5,14 +5,10 @@ by a radius, so a cell expects N x (its share of that shrunk box) particles, and
 sigma = sqrt(expected count) V_p / V_cell (conservative: a non-overlapping fill is sub-Poisson) every cell must lie
 within 4 sigma and the rms over cells below 1.3 sigma. 3D on 1 and 2 ranks (the two agree), 2D one particle deep
 (depth -domain_lz enters the cell volume)."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import analysis_files as af
-import fbtest as t
 import numpy as np
+
+import analysis_files as af
+from fluidbed_tools import testing as t
 
 d = 1e-3
 vp = np.pi / 6 * d**3

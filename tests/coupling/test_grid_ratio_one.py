@@ -1,11 +1,10 @@
 """Coupling verification 5: the two-grid path with -pgrid_ratio 1 gives the same answer as the single-grid path
 (-couple_grid single, void fraction and drag summed directly on the fluid cells) to 1e-12, here bit for bit."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 args = ["-t_final", 0.03, "-inlet_velocity", 0.5, "-fluid_output_cells"]
 two, _ = t.run(t.example("coupling/small_bed.opts"), args=args + ["-couple_grid", "two", "-pgrid_ratio", 1], outdir="ratio_one_two")

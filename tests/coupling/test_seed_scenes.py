@@ -3,12 +3,10 @@ steps; its printed set-up is checked against the seed's tables: particle count, 
 bottom (within 1%: slits are whole fluid cells, 1.611 instead of 1.6 mm), the contact time t_cr of eq. 3.2-3.3
 computed here from the scene's particles, and, where the seed quotes it, t_cr itself (Table 5.1 beds: 5.838e-5 s)."""
 import math
-import os
 import re
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 # scene: (particles, superficial velocity m/s, diameter m, density kg/m^3, e, t_cr quoted by the seed or None)
 SCENES = {
@@ -32,9 +30,7 @@ KN = 800.0  # N/m, every table
 
 def t_cr(d, rho, e):
     """Seed eq. 3.2-3.3 for a pair of equal spheres."""
-    m_eff = 0.5 * rho * math.pi / 6 * d**3
-    gamma = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
-    return math.pi / math.sqrt(KN * (1 - gamma**2) / m_eff)
+    return reference.contact_time(KN, e, 0.5 * rho * math.pi / 6 * d**3)
 
 
 def number(pattern, text, what):

@@ -7,11 +7,11 @@
 4. drag action and reaction cancel to round-off in every monitor row, and no particle is lost (mass conserved)."""
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 d, rho_p, mu, rho_g, g = 1.2e-3, 1000.0, 1.8e-5, 1.205, 9.81
 A, h = 0.02 * 0.01, 0.06 / 18  # bed cross-section, fluid cell height
@@ -20,7 +20,7 @@ N = 3000
 
 
 def ergun_gradient(eps, U):
-    return 150 * (1 - eps) ** 2 * mu * U / (eps ** 3 * d * d) + 1.75 * (1 - eps) * rho_g * U * U / (eps ** 3 * d)
+    return reference.ergun_gradient(eps, U, d, mu, rho_g)
 
 
 def balance(mon, label):

@@ -4,11 +4,9 @@ Ergun/Wen-Yu blend (eq. 2.11-2.17) at the particle cell's void fraction, Model B
 analytic value solves K(u) u = (rho_p - rho_g) g by bisection; the run must match it within 1%."""
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
-import numpy as np
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 d, rho_p, rho_g, mu, g = 1e-3, 2500.0, 1.205, 1.8e-5, 9.81
 U = 6.77                                       # superficial inlet velocity of the example
@@ -16,19 +14,10 @@ eps = 1 - (math.pi / 6 * d ** 3) / (0.01 ** 3)  # one particle in a 10 mm partic
 
 
 def K(u):  # the seed's blended law divided by (1 - eps), then by eps (Model B)
-    re = eps * d * u * rho_g / mu
-    cdre = 24 * (1 + 0.15 * re ** 0.687) if re <= 1000 else 0.44 * re
-    wen_yu = 0.75 * cdre * mu * eps ** -2.65 / d ** 2
-    ergun = 150 * (1 - eps) * mu / (eps * d * d) + 1.75 * rho_g * u / d
-    phi = math.atan(150 * 1.75 * (eps - 0.8)) / math.pi + 0.5
-    return ((1 - phi) * ergun + phi * wen_yu) / eps
+    return reference.huilin_gidaspow_k(eps, d, u, mu, rho_g) / eps
 
 
-lo, hi = 0.0, 50.0
-for _ in range(200):
-    mid = 0.5 * (lo + hi)
-    lo, hi = (mid, hi) if K(mid) * mid < (rho_p - rho_g) * g else (lo, mid)
-u_t = 0.5 * (lo + hi)
+u_t = reference.terminal_velocity(K, rho_p, rho_g, g)
 
 out, _ = t.run(t.example("coupling/terminal_velocity.opts"), args=["-t_final", 2.5], outdir="terminal_velocity")
 tr = t.table(os.path.join(out, "track.csv"))

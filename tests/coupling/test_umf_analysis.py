@@ -7,13 +7,10 @@
 - the exact sphere volume in a slab: a whole sphere, half a sphere, a cap of height r/2 (5 pi r^3 / 24);
 - the voidage of a simple cubic packing, 1 - pi / 6, in the bulk within 1e-3, and the bed height is the top layer's."""
 import math
-import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scripts"))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 import umf_sweep as us
 
 for eps in (0.36, 0.41, 0.45, 0.5):

@@ -2,11 +2,9 @@
 sequence, which is e^(2n) h0 corrected for gravity acting during each contact (finite contact time, overlap)."""
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
-import analytic
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 out, _ = t.run(t.example("dem/bounce_e090.opts"), outdir="bounce_e090")
 tr = t.table(os.path.join(out, "track.csv"))
@@ -15,7 +13,7 @@ m = rho * math.pi / 6 * d ** 3
 gap = tr["y"] - d / 2
 vy = tr["vy"]
 apex = gap[1:][(vy[:-1] > 0) & (vy[1:] <= 0)]
-ref = analytic.bounce_apexes(h0, 5, kn, e, m, g)
+ref = reference.bounce_apexes(h0, 5, kn, e, m, g)
 t.check(len(apex) >= 5, "%d rebounds recorded (need 5)" % len(apex))
 for n in range(5):
     naive = e ** (2 * (n + 1)) * h0

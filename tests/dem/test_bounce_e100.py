@@ -1,10 +1,8 @@
 """Verification 1 (seed fig. 2.3): a particle dropped from 10 mm with e = 1 rebounds to 10 mm; the apex after
 20 bounces is within 0.5% of 10 mm."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 out, _ = t.run(t.example("dem/bounce_e100.opts"), outdir="bounce_e100")
 tr = t.table(os.path.join(out, "track.csv"))

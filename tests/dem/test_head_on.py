@@ -6,12 +6,11 @@ falls as dt^2 (order fitted over t_cr/10 ... t_cr/80). e = 0.5 and 0.9: measured
 Contact duration within 2% of the linear-spring value t_cr (eq. 3.2), at the default dt = t_cr/10."""
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
-import analytic
 import numpy as np
+
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 d, rho, kn = 1.2e-3, 1000.0, 800.0
 m = rho * math.pi / 6 * d ** 3
@@ -61,6 +60,6 @@ for e in (1.0, 0.5):
     k_out = k_in + np.argmax(ov[k_in:] <= 0)
     t_in = time[k_in - 1] + (time[k_in] - time[k_in - 1]) * (-ov[k_in - 1]) / (ov[k_in] - ov[k_in - 1])
     t_out = time[k_out - 1] + (time[k_out] - time[k_out - 1]) * ov[k_out - 1] / (ov[k_out - 1] - ov[k_out])
-    tc = analytic.contact_time(kn, e, m / 2)
+    tc = reference.contact_time(kn, e, m / 2)
     t.check(t.rel(t_out - t_in, tc) < 0.02, "e = %.1f, dt = t_cr/10: contact lasted %.4e s, analytic %.4e s, error %.3f%% (limit 2%%)"
             % (e, t_out - t_in, tc, 100 * t.rel(t_out - t_in, tc)))

@@ -1,11 +1,10 @@
 """Scene modes: pseudo-2D motion, 2D grids, polydisperse random fills, periodic wrapping, and the open top where
 particles leave and are counted (none is lost silently)."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 gas = t.example("dem/granular_gas.opts")
 

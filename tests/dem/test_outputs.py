@@ -2,10 +2,8 @@
 particle-steps per second per rank; monitor.csv has the global quantities; -log_view has a stage per phase;
 long runs print progress lines."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 out, p = t.run(None, args=["-t_final", 0.02, "-insert_count", 500, "-log_view"], outdir="outputs")
 s = t.summary(out)

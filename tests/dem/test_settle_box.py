@@ -2,11 +2,10 @@
 particle stays in the box (same ids at the end), and the kinetic energy decays to rest: at the end it is below
 1e-4 of its peak during the pour."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 out, _ = t.run(t.example("dem/settle_box.opts"), outdir="settle_box")
 mon = t.table(os.path.join(out, "monitor.csv"))

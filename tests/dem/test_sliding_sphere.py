@@ -1,11 +1,10 @@
 """Verification 4: a sphere launched without spin on a rough wall slides, spins up and rolls. Rigid-body
 mechanics: the slip stops at t = 2 v0 / (7 mu g) and the sphere then rolls at 5/7 v0 (omega r = v). Both within 2%."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 out, _ = t.run(t.example("dem/sliding_sphere.opts"), outdir="sliding_sphere")
 tr = t.table(os.path.join(out, "track.csv"))

@@ -1,10 +1,9 @@
 """Helpers for the gas-phase tests: the cell table written by -fluid_output_cells and the monitor's gas columns."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 
 def cells(outdir):

@@ -1,11 +1,7 @@
 """Bad gas-phase input stops cleanly: exit status 2 (not an abort or a crash), no traceback, and one message that
 names the option and what is allowed (for a slit whose edges miss the cell faces: the jet and the nearest valid
 width)."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 jet = t.example("fluid/jet_empty_bed.opts")
 cavity = t.example("fluid/cavity_re100.opts")

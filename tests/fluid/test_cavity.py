@@ -2,13 +2,10 @@
 Ghia, Ghia & Shin (1982), tests/data/ghia1982_re100.csv. Every tabulated centre-line velocity within 2% of the lid
 velocity, and the extremes (u_min, v_max, v_min) within 2% of Ghia's values. After every projection the largest
 |div u| stays below the KSP tolerance times U/h."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import gas
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
+import gas
 
 L, U, n = 0.01, 0.149378, 32
 out, _ = t.run(t.example("fluid/cavity_re100.opts"), args=["-grid_nx", n, "-grid_ny", n, "-monitor_dt", 0.002], outdir="cavity_%d" % n)

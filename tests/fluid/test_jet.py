@@ -5,13 +5,10 @@ uniform outlet the outflow equals the inflow to round-off, with a pressure outle
 The limited convection stays bounded where 45.3 m/s gas meets still gas: a step of tangential velocity carried
 at 45.3 m/s keeps every value between 0 and 45.3 m/s (to round-off). With -inlet_ramp_time the inflow follows the
 linear ramp exactly and the outflow with it."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import gas
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
+import gas
 
 V_JET, RTOL = 45.3, 1e-8
 lx, ly, lz = 0.0564, 0.280, 0.00495

@@ -3,11 +3,7 @@ bed grid (175 x 200 x 5 cells, examples/fluid/jet_empty_bed.opts) with a frozen 
 60 mm), for the variable-coefficient operator (model A) and the constant-coefficient one (model B): one gas step
 per pair, pure Neumann pressure (the seed's uniform outlet, constant null space). Iterations and time of the
 solve are printed; scripts/bench_pressure.sh measures the full table for docs/performance.md."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 pairs = [("cg", "hypre"), ("cg", "gamg"), ("cg", "mg"), ("cg", "icc"), ("cg", "jacobi"), ("gmres", "hypre"), ("bcgs", "mg")]
 runs = [(m, k, p, 1) for m in ("A", "B") for k, p in pairs] + [("A", "cg", "icc", 2), ("A", "cg", "mg", 2), ("A", "cg", "hypre", 2)]

@@ -6,13 +6,10 @@ tolerance times U/h), and inflow = outflow to round-off; plain div(u) is not zer
 moving at 0.5 m/s with -fluid_deps_dt satisfies div(eps u) = -d(eps)/dt instead (model A, the preconditioner
 rebuilt every 5 solves with -fluid_pc_reuse 5). A uniform flow through a uniform eps = 0.5 stays uniform (u = U /
 eps to round-off) under gravity, with the hydrostatic pressure gradient -rho_g g, in both models."""
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import gas
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
+import gas
 
 RTOL, U, rho, g = 1e-8, 1.0, 1.205, 9.81
 lx, ly = 0.02, 0.04

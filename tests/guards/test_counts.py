@@ -6,10 +6,8 @@ The scene: 300 spheres in a 10 x 20 x 10 mm box without gravity, random velociti
 an outlet: about a third leave within 40 ms."""
 import os
 import re
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 scene = ["-domain_lx", "0.01", "-domain_ly", "0.02", "-domain_lz", "0.01", "-domain_top_outlet", "-gravity", "0,0,0",
          "-particle_diameter", "1e-3", "-insert_type", "random", "-insert_count", "300", "-insert_velocity_random", "1.0",

@@ -7,13 +7,11 @@ import math
 import os
 import shutil
 import subprocess
-import sys
 
 import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 STATUS = {"nan": 10, "escape": 11, "pressure": 12, "overlap": 13, "displacement": 14, "energy": 15, "void_fraction": 16, "courant": 17}
 

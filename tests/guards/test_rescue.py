@@ -6,11 +6,10 @@ are not resolved and the energy grows; the guard stops the run after its checkpo
 dt = t_cr / 10 it runs to its end: the energy guard then sees no growth, every particle is still there, and the
 monitor holds each step once."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 gas = t.example("dem/granular_gas.opts")
 common = ["-max_steps", "-1", "-t_final", "0.01", "-checkpoint_interval", "0.001"]

@@ -4,16 +4,14 @@ whole numbers or booleans, options without a value, unknown names (enums, KSP an
 the box, and -restart files that are not checkpoints of the scene (docs/reliability.md, "Input errors")."""
 import os
 import shutil
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 EXIT_INPUT = 2  # include/fluidbed/status.hpp
 
 
 def check_cases(cases, common=(), ranks=(1, 2), tail=("-t_final", "0")):
-    """fbtest.check_bad_input, stricter: exit status EXIT_INPUT, no PETSc traceback or HDF5 error stack, exactly one
+    """testing.check_bad_input, stricter: exit status EXIT_INPUT, no PETSc traceback or HDF5 error stack, exactly one
     error line, and every word in the output. `tail` follows the case's arguments (empty: they are the last words)."""
     for nprocs in ranks:
         for args, words in cases:

@@ -3,10 +3,8 @@ run a misspelled option, 3D options in a 2D run, a gas option in a run without g
 model's warnings, -average_start at or after -t_final (printed once). A normal run, PETSc's own options that it reads
 in PetscFinalize (-options_left) and -help give no such warning."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 jet2d = t.example("jetted_bed_2d.opts")  # the default scene: 2D, gas and particles
 settle = t.example("dem/settle_box.opts")  # 3D, particles only

@@ -1,6 +1,6 @@
 """Opens a run's XDMF series in ParaView and reports what ParaView sees; run under pvbatch (in a virtual X server):
 
-    xvfb-run -a pvbatch tests/io/paraview_check.py RUN_DIR REPORT.json PICTURE.png X0 X1 Y0 Y1 Z0 Z1
+    xvfb-run -a pvbatch tests/io/paraview_check.py RUN_DIR REPORT.json PICTURE.png --box=X0,X1,Y0,Y1,Z0,Z1
 
 For particles.xmf, fluid.xmf and analysis.xmf, with the XDMF reader (XDMFReader) and with the reader ParaView picks
 itself for .xmf (OpenDataFile: Xdmf3ReaderS in 5.11): the time steps and, at each step, the number of points and
@@ -10,16 +10,23 @@ each step, go to REPORT.npz for comparison with the HDF5 files. The picture show
 (XDMF reader) over the gas void fraction: the whole grid in 2D; in 3D a slice at mid-depth with the particles in
 front of it. It spans the given box exactly (parallel projection), so that pixel rows map to heights. The judging is left
 to tests/io/test_paraview.py."""
+import argparse
 import json
 import os
-import sys
 
 import numpy as np
 from paraview.simple import (Clip, ColorBy, CreateRenderView, ExtractSurface, GetColorTransferFunction, GetScalarBar, OpenDataFile, Render, SaveScreenshot,
                              Show, Slice, XDMFReader)
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
-run, report, picture = sys.argv[1:4]  # then the box x0 x1 y0 y1 z0 z1 of the picture
+ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+ap.add_argument("run", help="run directory (fluidbed -output_dir) holding particles.xmf, fluid.xmf and analysis.xmf")
+ap.add_argument("report", help="JSON report to write (the arrays go to the same name with .npz)")
+ap.add_argument("picture", help="PNG picture to write")
+ap.add_argument("--box", required=True, type=lambda s: [float(v) for v in s.split(",")],
+                help="x0,x1,y0,y1,z0,z1 (m): the box the picture spans (as --box=..., the values may be negative)")
+cli = ap.parse_args()
+run, report, picture = cli.run, cli.report, cli.picture
 SERIES = ("particles", "fluid", "analysis")
 
 
@@ -143,7 +150,7 @@ with open(report, "w") as f:
     json.dump(result, f, indent=1)
 np.savez(os.path.splitext(report)[0] + ".npz", **arrays)
 try:
-    result["picture"] = save_picture([float(v) for v in sys.argv[4:10]])
+    result["picture"] = save_picture(cli.box)
 except Exception as e:  # the test reports it
     result["picture"] = {"error": "%s: %s" % (type(e).__name__, e)}
 with open(report, "w") as f:

@@ -11,11 +11,10 @@ particle id, not by the swarm's storage order; and a checkpoint makes the next p
 preconditioner in both runs (-fluid_pc_reuse)."""
 import os
 import shutil
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 scenes = {
     "bubbling_3d": (t.example("coupling/small_bed.opts"), ["-inlet_velocity", 0.5], 0.03),

@@ -14,9 +14,9 @@ import shutil
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import h5py
+
+from fluidbed_tools import testing as t
 
 SCENE = ["-insert_count", 300, "-t_final", 0.01]
 HDF5 = ["-output_interval", 0.002, "-checkpoint_interval", 0.005]

@@ -1,13 +1,12 @@
 """ParaView-readable output: particles.xmf parses as XML and every DataItem points at a dataset that exists in its
 HDF5 file with the shape the XDMF states; times increase; the datasets hold the run's particles."""
 import os
-import sys
 import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import h5py
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 for n, dim in ((1, 3), (2, 3), (2, 2)):
     args = ["-t_final", 0.01, "-insert_count", 300, "-output_interval", 0.0025]

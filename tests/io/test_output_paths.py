@@ -7,10 +7,8 @@ permission is tried as well when the test does not run as root (root writes ther
 import os
 import stat
 import subprocess
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 SCENE = ["-insert_count", 100, "-max_steps", 20]
 CRASH = ("PETSC ERROR", "Segmentation", "Caught signal", "core dumped", "Traceback")
@@ -35,7 +33,7 @@ else:
 
 for n in (1, 2):
     for args, option, reason in cases:
-        # the output directory given explicitly last wins over the one fbtest.run passes
+        # the output directory given explicitly last wins over the one testing.run passes
         try:
             _, p = t.run(None, args=SCENE + args, nprocs=n, outdir="paths_out", expect_fail=True, timeout=60)
         except subprocess.TimeoutExpired:

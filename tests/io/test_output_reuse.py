@@ -9,12 +9,11 @@
 import os
 import re
 import shutil
-import sys
 import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import h5py
+
+from fluidbed_tools import testing as t
 
 SCENE = t.example("jetted_bed_2d.opts")
 FIRST = ["-max_steps", 60, "-output_interval", 1e-4, "-checkpoint_interval", 3e-4, "-average", "-average_start", 0, "-fluid_output_cells",

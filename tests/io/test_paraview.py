@@ -11,14 +11,13 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import h5py
 import matplotlib.image
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 CHECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_check.py")
 INSTALL = ("scripts/test.sh installs them (FLUIDBED_TEST_PACKAGES in scripts/setup.sh), or: "
@@ -77,7 +76,8 @@ for label, opts, args, dim in scenes:
     # ParaView
     report, picture = os.path.join(out, "paraview.json"), os.path.join(out, "particles_over_void_fraction.png")
     start = time.time()
-    p = subprocess.run([XVFB, "-a", PVBATCH, CHECK, out, report, picture] + ["%.17g" % v for v in box], capture_output=True, text=True, timeout=300)
+    p = subprocess.run([XVFB, "-a", PVBATCH, CHECK, out, report, picture, "--box=" + ",".join("%.17g" % v for v in box)], capture_output=True, text=True,
+                       timeout=300)
     pv_s = time.time() - start
     text = p.stdout + p.stderr
     if "No module named 'paraview'" in text:

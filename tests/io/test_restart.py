@@ -3,11 +3,10 @@
 (1 -> 2, 2 -> 1, again bit for bit). A checkpoint whose write fails leaves the previous one intact."""
 import os
 import shutil
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 scene = ["-insert_type", "random", "-insert_count", 2000, "-insert_velocity_random", 0.3, "-insert_seed", 5]
 

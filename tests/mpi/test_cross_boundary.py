@@ -1,11 +1,10 @@
 """Verification 6: a pair colliding across a rank boundary, and across a periodic boundary split between ranks,
 gets the same force at every step as on one rank."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 base = ["-domain_lx", 0.024, "-domain_ly", 0.012, "-domain_lz", 0.012, "-gravity", "0,0,0", "-dem_mu", 0.3, "-dem_e", 0.7,
         "-particle_diameter", 1.2e-3, "-insert_type", "list", "-t_final", 5e-4, "-monitor_track_ids", "0,1"]

@@ -2,11 +2,10 @@
 keeps every particle (count and id set) and gives the same positions after 200 steps. The contact sums are
 ordered by particle id, so the agreement is expected bit for bit; the test allows 1e-10 relative."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 scenes = {
     "3d": (["-max_steps", 200], [(1, None), (2, "2,1,1"), (2, "1,1,2"), (4, "2,1,2"), (4, "1,2,2")]),

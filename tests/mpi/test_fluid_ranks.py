@@ -3,11 +3,10 @@
 The stencils are evaluated identically on every rank; only the pressure KSP's reductions and hypre's
 partition-dependent coarsening differ, hence -fluid_p_ksp_rtol 1e-12 here."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 jet = t.example("fluid/jet_empty_bed.opts")
 slit = ["-inlet_jets", "0.0282,0.00161142857,45.3"]

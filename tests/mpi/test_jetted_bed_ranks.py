@@ -11,11 +11,10 @@ So the runs must agree:
   larger standard deviation of that height over the window, and within 5%,
 and each run balances drag action and reaction to round-off."""
 import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
 import numpy as np
+
+from fluidbed_tools import testing as t
 
 runs = [(1, None), (2, "2,1"), (4, "2,2")]
 res = {}

@@ -6,15 +6,12 @@ numbers, y vertical, the process grid that never splits y), the log and dump rea
 physics check that makes the benchmark fail. No timing: speed targets live in the benchmark."""
 import math
 import os
-import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
-
-sys.path.insert(0, os.path.join(t.SRC, "scripts"))
 import bench_peers as bp
+from fluidbed_tools import reference
+from fluidbed_tools import testing as t
 
 # --- the contact law: 0.75 mm glass, k_n 800 N/m, e 0.9 (docs/dem.md, /work/shared/peer-benchmarks.md) ---
 p = bp.bed_params(t.example("dem/bed750.opts"))
@@ -22,8 +19,8 @@ m = p["mass"]
 t.check(abs(p["gamma_n"] - 3608.38) < 0.01, "pair gamma_n = %.2f 1/s (3608.38 expected)" % p["gamma_n"])
 t.check(p["gamma_t"] == p["gamma_n"], "gamma_t = gamma_n (k_t = k_n, one damping ratio)")
 t.check(abs(p["t_cr"] - 5.840e-5) < 0.0005e-5, "t_cr = %.4e s (5.840e-5)" % p["t_cr"])
-zeta = bp.damping_ratio(0.9)
-t_cr_fluidbed = math.pi / math.sqrt(800 * (1 - zeta ** 2) / (m / 2))  # docs/dem.md eq. 3.2
+zeta = reference.damping_ratio(0.9)
+t_cr_fluidbed = reference.contact_time(800, 0.9, m / 2)  # docs/dem.md eq. 3.2
 t.check(t.rel(p["t_cr"], t_cr_fluidbed) < 1e-12, "the peers' contact duration is fluidbed's eq. 3.2 (rel. %.1e)" % t.rel(p["t_cr"], t_cr_fluidbed))
 e_pair = bp.restitution(800, p["gamma_n"], m / 2)
 e_wall = bp.restitution(800, p["wall_gamma_n"], m)

@@ -18,8 +18,7 @@ import os
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 bed = t.example("jetted_bed_2d.opts")
 out1, _ = t.run(bed, args=["-max_steps", 4, "-fluid_p_dump_steps", "1-5"], outdir="ksp_bed_1")

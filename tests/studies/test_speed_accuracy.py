@@ -7,8 +7,7 @@ import os
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 out = os.path.abspath("speed_accuracy_ci")
 table = os.path.join(out, "sa.csv")

@@ -8,8 +8,7 @@ import os
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-import fbtest as t
+from fluidbed_tools import testing as t
 
 script = os.path.join(t.SRC, "scripts", "strong_scaling.py")
 out = os.path.abspath("strong_scaling_direct")

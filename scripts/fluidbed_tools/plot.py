@@ -1,6 +1,6 @@
-"""Shared reading and drawing helpers of the plot_*.py scripts: a run's analysis.h5 (time averages on the particle
-grid, docs/analysis.md), its snapshot_NNNNN.h5 files (/particles, /fluid) and monitor.csv. matplotlib (Agg), h5py
-and numpy only."""
+"""Shared reading and drawing helpers of the plot scripts (scripts/plot_*.py, scripts/jet_fountain.py): a run's
+analysis.h5 (time averages on the particle grid, docs/analysis.md), its snapshot_NNNNN.h5 files (/particles, /fluid)
+and monitor.csv. matplotlib (Agg), h5py and numpy only."""
 import argparse
 import glob
 import os
@@ -14,6 +14,8 @@ matplotlib.use("Agg")
 import h5py  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from .outputs import read_h5  # noqa: E402
 
 MM = 1e3  # axes in mm
 
@@ -39,14 +41,6 @@ def analysis_path(run):
     if not os.path.isfile(path):
         die("%s has no analysis.h5: run fluidbed with -average (or -average_start)" % run)
     return path
-
-
-def read_h5(path):
-    """Every dataset of an HDF5 file as a dict of arrays keyed by dataset path without the leading slash."""
-    data = {}
-    with h5py.File(path, "r") as f:
-        f.visititems(lambda name, obj: data.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
-    return data
 
 
 def read_analysis(run):
