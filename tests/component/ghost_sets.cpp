@@ -132,7 +132,7 @@ PetscErrorCode PlaceParticles(const Domain &dom, const ParticleGrid &pg, const P
     q.dcell[k] = 0;
     for (PetscInt s = 0; s < q.K; ++s) {
       q.ckey[q.K * k + s] = kFreeSlot;
-      for (PetscInt c = 0; c < kHistoryStride; ++c) q.chist[kHistoryStride * (q.K * k + s) + c] = 0.0;
+      for (PetscInt c = 0; c < q.hs; ++c) q.chist[q.hs * (q.K * k + s) + c] = 0.0;
     }
   }
   PetscCall(ParticleArraysRestore(swarm, &q));
