@@ -13,6 +13,7 @@
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
 #include "fluidbed/option_report.hpp"
+#include "fluidbed/outputs.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
 #include "fluidbed/probes.hpp"
@@ -54,9 +55,10 @@ struct Simulation {
   Dem            *dem      = nullptr;
   DM              swarm    = nullptr;
   Fluid          *fluid    = nullptr;
-  Coupling       *coupling = nullptr; // particles and gas both on
-  GasProbes       probes;
-  BedAverages    *averages  = nullptr; // -average: time averages and the bed measures (analysis.h5)
+  Coupling       *coupling = nullptr;  // particles and gas both on
+  OutputList      outputs;             // monitor.csv's columns and the analyses: registered by SimulationAddOutputs
+  BedAverages    *averages = nullptr;  // -average: time averages and the bed measures (analysis.h5)
+  ParticleTotals  totals;              // the particle columns of the last monitor row (summary.json, the closing line)
   Guards         *guards    = nullptr; // -guard_*: run-time checks that stop a run gone wrong
   PetscInt64      step      = 0;
   PetscReal       time      = 0.0;
@@ -88,6 +90,13 @@ PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);
 PetscErrorCode SimulationSetUp(Simulation *sim);
 PetscErrorCode SimulationRun(Simulation *sim);
 PetscErrorCode SimulationDestroy(Simulation **sim);
+
+// The run as its outputs see it, now (src/app/outputs.cpp).
+RunView SimulationView(const Simulation *sim);
+// Creates every output of the run and registers it in sim->outputs, in the order of their monitor.csv columns,
+// summary.json entries and calls (src/app/outputs.cpp, the one place outputs are registered). Call once every
+// module exists, before a restart's checkpoint is read.
+PetscErrorCode SimulationAddOutputs(Simulation *sim);
 
 // Snapshots, checkpoints and restart (src/io/checkpoint.cpp).
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
