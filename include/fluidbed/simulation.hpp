@@ -3,7 +3,6 @@
 
 #include <petscsys.h>
 
-#include "fluidbed/averaging.hpp"
 #include "fluidbed/coupling.hpp"
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
@@ -16,7 +15,6 @@
 #include "fluidbed/outputs.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
-#include "fluidbed/probes.hpp"
 #include "fluidbed/scene_model.hpp"
 
 namespace fluidbed {
@@ -57,7 +55,7 @@ struct Simulation {
   Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr;  // particles and gas both on
   OutputList      outputs;             // monitor.csv's columns and the analyses: registered by SimulationAddOutputs
-  BedAverages    *averages = nullptr;  // -average: time averages and the bed measures (analysis.h5)
+  const Output   *averages = nullptr;  // -average: the time averages in outputs (NULL when off), whose schedule the scene model reports
   ParticleTotals  totals;              // the particle columns of the last monitor row (summary.json, the closing line)
   Guards         *guards    = nullptr; // -guard_*: run-time checks that stop a run gone wrong
   PetscInt64      step      = 0;

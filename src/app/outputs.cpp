@@ -1,5 +1,6 @@
 // The outputs of a run, registered in one place (include/fluidbed/outputs.hpp): the run's own monitor.csv columns
 // (the particles, the gas, the coupling) and the analyses; and the view of the run they see.
+#include "fluidbed/averaging.hpp"
 #include "fluidbed/probes.hpp"
 #include "fluidbed/simulation.hpp"
 
@@ -126,6 +127,7 @@ PetscErrorCode SimulationAddOutputs(Simulation *sim)
   if (sim->fluid) PetscCall(OutputListAdd(list, std::make_unique<GasColumns>()));
   if (sim->coupling) PetscCall(OutputListAdd(list, std::make_unique<CouplingColumns>(sim->coupling, sim->domain.dim)));
   PetscCall(OutputListCreate(list, run, GasProbesCreate));
+  PetscCall(OutputListCreate(list, run, BedAveragesCreate, &sim->averages));
   PetscFunctionReturn(0);
 }
 

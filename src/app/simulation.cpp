@@ -104,7 +104,7 @@ PetscErrorCode WriteSummary(Simulation *sim)
     json.Number("contacts_per_particle", tot.contacts_per_particle);
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
-  PetscCall(BedAveragesAddSummary(sim->averages, &json));
+  PetscCall(OutputListAddSummary(sim->outputs, SimulationView(sim), &json));
   SceneModelAddSummary(sim->model, &json);
   {
     std::vector<std::string> unused;
@@ -163,7 +163,6 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));
   PetscCall(SimulationAddOutputs(sim));
-  PetscCall(BedAveragesCreate(sim, &sim->averages));
   if (restart) PetscCall(SimulationReadCheckpoint(sim));
   else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
   // Inputs read, nothing written yet: the output directory is cleared of what would mix with this run's files.
@@ -355,7 +354,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/" + run_files::particles).c_str()));
   if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
     PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/" + run_files::fluid_cells).c_str()));
-  PetscCall(BedAveragesWrite(sim->averages));
+  PetscCall(OutputListFinalize(sim->outputs, SimulationView(sim)));
   PetscCall(MonitorClose(sim->comm, &sim->monitor));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
   PetscCall(WriteSummary(sim));
@@ -388,7 +387,6 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   PetscCall(MonitorDestroy(&(*sim)->monitor));
   PetscCall(GuardsDestroy(&(*sim)->guards));
   PetscCall(OutputListDestroy(&(*sim)->outputs));
-  PetscCall(BedAveragesDestroy(&(*sim)->averages));
   PetscCall(CouplingDestroy(&(*sim)->coupling));
   PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));

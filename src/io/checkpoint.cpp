@@ -283,7 +283,7 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
     if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
     if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
     if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
-    PetscCall(BedAveragesWriteHDF5(sim->averages, viewer));
+    PetscCall(OutputListCheckpointWrite(sim->outputs, SimulationView(sim), viewer)); // the averages, ...
     PetscFunctionReturn(0);
   }));
   PetscFunctionReturn(0);
@@ -388,7 +388,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
                             (int)substeps));
     }
   }
-  PetscCall(BedAveragesReadHDF5(sim->averages, viewer));
+  PetscCall(OutputListCheckpointRead(sim->outputs, SimulationView(sim), viewer)); // once the run's own state is read
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
@@ -419,7 +419,7 @@ PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
   const PetscReal dt = sim->dem ? sim->dem->par.dt : FluidGetStats(sim->fluid).dt, eps = 0.5 * dt;
 
   PetscFunctionBeginUser;
-  PetscCall(BedAveragesStep(sim->averages)); // before this step's checkpoint, which then holds its sample
+  PetscCall(OutputListStep(sim->outputs, SimulationView(sim))); // before this step's checkpoint, which then holds its samples
   if (o.interval > 0 && sim->time >= o.next - eps) {
     PetscCall(SimulationWriteSnapshot(sim));
     while (o.next <= sim->time + eps) o.next += o.interval;
