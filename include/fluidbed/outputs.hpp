@@ -1,10 +1,10 @@
 // The outputs of a run as a list. Each output (a group of monitor.csv columns, the time averages, the gas probes,
-// ...) is one object that holds its own columns, values, files, summary entries and part of the checkpoint; the run
-// registers each once (src/app/outputs.cpp) and its OutputList calls them in that order. An output sees the run
-// through a RunView, the narrow part of it that outputs read, so that the io and analysis modules that implement
-// outputs do not depend on the application (fluidbed/simulation.hpp). A new analysis is one file (a class derived
-// from Output and its creation function, of the form OutputCreateFn, declared in its module's header) and one
-// OutputListCreate line in SimulationAddOutputs.
+// the snapshot series, ...) is one object that holds its own columns, values, files, summary entries and part of the
+// checkpoint; the run registers each once (src/app/outputs.cpp) and its OutputList calls them in that order. An
+// output sees the run through a RunView, the narrow part of it that outputs read, so that the io and analysis
+// modules that implement outputs do not depend on the application (fluidbed/simulation.hpp). A new analysis is one
+// file (a class derived from Output and its creation function, of the form OutputCreateFn, declared in its module's
+// header) and one OutputListCreate line in SimulationAddOutputs.
 #pragma once
 
 #include <petscviewer.h>

@@ -1,5 +1,5 @@
 // The outputs of a run, registered in one place (include/fluidbed/outputs.hpp): the run's own monitor.csv columns
-// (the particles, the gas, the coupling) and the analyses; and the view of the run they see.
+// (the particles, the gas, the coupling), the analyses and the snapshot series; and the view of the run they see.
 #include "fluidbed/averaging.hpp"
 #include "fluidbed/probes.hpp"
 #include "fluidbed/simulation.hpp"
@@ -128,6 +128,11 @@ PetscErrorCode SimulationAddOutputs(Simulation *sim)
   if (sim->coupling) PetscCall(OutputListAdd(list, std::make_unique<CouplingColumns>(sim->coupling, sim->domain.dim)));
   PetscCall(OutputListCreate(list, run, GasProbesCreate));
   PetscCall(OutputListCreate(list, run, BedAveragesCreate, &sim->averages));
+  {
+    std::unique_ptr<Output> snapshots;
+    PetscCall(SnapshotSeriesCreate(sim->output.interval, &snapshots));
+    PetscCall(OutputListAdd(list, std::move(snapshots)));
+  }
   PetscFunctionReturn(0);
 }
 
