@@ -18,6 +18,8 @@
 
 namespace fluidbed {
 
+struct Fluid;
+
 // Particle datasets under /particles: position, velocity, omega, diameter and id; with `full` (checkpoints) also
 // force, torque and the contact history, everything needed to continue bit for bit.
 PetscErrorCode ParticlesWriteHDF5(DM swarm, PetscViewer viewer, PetscBool full);
@@ -31,6 +33,10 @@ PetscErrorCode ParticlesWriteFlagHDF5(DM swarm, PetscViewer viewer, const char *
 // Reads the /particles datasets of a checkpoint written by ParticlesWriteHDF5 (any number of ranks) and gives
 // every particle to the rank that owns its particle cell. The swarm's previous particles are replaced.
 PetscErrorCode ParticlesReadHDF5(DM swarm, PetscViewer viewer, const Domain &domain, const ParticleGrid &pgrid);
+
+// The particle and gas data of a snapshot or (full) a checkpoint (ParticlesWriteHDF5, FluidWriteHDF5; either may
+// be NULL, off), the bulk of the file (collective).
+PetscErrorCode StateHDF5Bytes(DM swarm, Fluid *fluid, PetscBool full, PetscInt64 *bytes);
 
 // One entry of a snapshot series.
 struct SnapshotRecord {
@@ -48,6 +54,12 @@ PetscErrorCode XdmfWriteParticles(MPI_Comm comm, const std::string &dir, PetscIn
 // (collective; rank 0 writes). In 2D their geometry is read from XdmfWriteFluidNodes' file.
 PetscErrorCode XdmfWriteFluid(MPI_Comm comm, const std::string &dir, const Domain &domain, const FluidGrid &grid,
                               const std::vector<SnapshotRecord> &series);
+
+// The snapshot series as an output of the run (src/io/snapshots.cpp): snapshot_NNNNN.h5 with the particles and the gas
+// every `interval` of simulated time from the initial state (0: none), each listed in particles.xmf and fluid.xmf
+// once complete; a checkpoint holds the series, and a restart removes the snapshots written after it. Present
+// with no interval too, so that a restart keeps the series of the run it continues.
+PetscErrorCode SnapshotSeriesCreate(PetscReal interval, std::unique_ptr<Output> *out);
 
 // The file of XdmfWriteFluidNodes, in the output directory.
 inline constexpr const char *kFluidNodesFile = run_files::fluid_nodes;

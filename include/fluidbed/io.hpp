@@ -10,10 +10,9 @@
 
 #include "fluidbed/dem.hpp"
 #include "fluidbed/files.hpp"
+#include "fluidbed/outputs.hpp"
 
 namespace fluidbed {
-
-struct FluidStats;
 
 // Global sums over the particles (monitor.csv columns).
 struct ParticleTotals {
@@ -27,22 +26,19 @@ struct ParticleTotals {
 PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t);
 
 struct Monitor {
-  OutputFile               csv, track; // track: open only with -monitor_track_ids
-  std::vector<PetscInt64>  track_ids;
-  PetscInt                 track_every = 1;
-  PetscReal                interval = 0, next = 0;
-  bool                     particles = true, fluid = false; // column groups, set before MonitorCreate
-  std::vector<std::string> extra_columns;                   // further columns (coupling, probes), set before MonitorCreate
-  PetscInt64               last_row_step = -1;              // the step of the last row written
+  OutputFile                 csv, track; // track: open only with -monitor_track_ids
+  std::vector<PetscInt64>    track_ids;
+  PetscInt                   track_every = 1;
+  PetscReal                  interval = 0, next = 0;
+  std::vector<MonitorColumn> columns;            // after step and time: the outputs' (OutputListColumns), set before MonitorCreate
+  PetscInt64                 last_row_step = -1; // the step of the last row written
 };
 
 // append: continue the files of a restarted run instead of starting them anew, dropping first the rows after
 // last_step (the checkpoint's step: rows written after it by the run that is continued).
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, PetscInt64 last_step, Monitor *m);
-// One row: the particle columns when m->particles, the gas columns (fluid, the last gas step) when m->fluid.
-// extra: the values of m->extra_columns.
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
-                            const FluidStats *fluid = nullptr, const std::vector<PetscReal> *extra = nullptr);
+// One row: step, time and the values of m->columns (OutputListValues).
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, PetscInt64 step, PetscReal time, const std::vector<PetscReal> &values);
 PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
 // Closes monitor.csv and track.csv at the end of a run, checked (collective).
 PetscErrorCode MonitorClose(MPI_Comm comm, Monitor *m);

@@ -3,7 +3,6 @@
 
 #include <petscsys.h>
 
-#include "fluidbed/averaging.hpp"
 #include "fluidbed/coupling.hpp"
 #include "fluidbed/dem.hpp"
 #include "fluidbed/domain.hpp"
@@ -13,9 +12,9 @@
 #include "fluidbed/hdf5io.hpp"
 #include "fluidbed/io.hpp"
 #include "fluidbed/option_report.hpp"
+#include "fluidbed/outputs.hpp"
 #include "fluidbed/particles.hpp"
 #include "fluidbed/phases.hpp"
-#include "fluidbed/probes.hpp"
 #include "fluidbed/scene_model.hpp"
 
 namespace fluidbed {
@@ -31,14 +30,13 @@ struct RunControl {
   PetscInt  couple_substeps                = 1;           // -couple_substeps: gas step = DEM step x this, with both on
 };
 
-// HDF5 snapshots every -output_interval, checkpoints every -checkpoint_interval, -restart FILE.
+// HDF5 snapshots every -output_interval (the snapshot series output), checkpoints every -checkpoint_interval,
+// -restart FILE.
 struct OutputSchedule {
-  PetscReal                   interval = 0, next = 0; // snapshots, s (0: none)
-  PetscReal                   checkpoint_interval = 0, next_checkpoint = 0;
-  char                        checkpoint_file[PETSC_MAX_PATH_LEN] = "";
-  char                        restart[PETSC_MAX_PATH_LEN]         = "";
-  std::vector<SnapshotRecord> series;
-  bool                        fluid_nodes_written = false; // fluid_grid.h5 of this run (2D gas), before its first fluid.xmf
+  PetscReal interval            = 0; // snapshots, s (0: none)
+  PetscReal checkpoint_interval = 0, next_checkpoint = 0;
+  char      checkpoint_file[PETSC_MAX_PATH_LEN] = "";
+  char      restart[PETSC_MAX_PATH_LEN]         = "";
 };
 
 struct Simulation {
@@ -54,9 +52,10 @@ struct Simulation {
   Dem            *dem      = nullptr;
   DM              swarm    = nullptr;
   Fluid          *fluid    = nullptr;
-  Coupling       *coupling = nullptr; // particles and gas both on
-  GasProbes       probes;
-  BedAverages    *averages  = nullptr; // -average: time averages and the bed measures (analysis.h5)
+  Coupling       *coupling = nullptr;  // particles and gas both on
+  OutputList      outputs;             // monitor.csv's columns, the analyses, the snapshots: registered by SimulationAddOutputs
+  const Output   *averages = nullptr;  // -average: the time averages in outputs (NULL when off), whose schedule the scene model reports
+  ParticleTotals  totals;              // the particle columns of the last monitor row (summary.json, the closing line)
   Guards         *guards    = nullptr; // -guard_*: run-time checks that stop a run gone wrong
   PetscInt64      step      = 0;
   PetscReal       time      = 0.0;
@@ -89,19 +88,23 @@ PetscErrorCode SimulationSetUp(Simulation *sim);
 PetscErrorCode SimulationRun(Simulation *sim);
 PetscErrorCode SimulationDestroy(Simulation **sim);
 
-// Snapshots, checkpoints and restart (src/io/checkpoint.cpp).
+// The run as its outputs see it, now (src/app/outputs.cpp).
+RunView SimulationView(const Simulation *sim);
+// Creates every output of the run and registers it in sim->outputs, in the order of their monitor.csv columns,
+// summary.json entries and calls (src/app/outputs.cpp, the one place outputs are registered). Call once every
+// module exists, before a restart's checkpoint is read.
+PetscErrorCode SimulationAddOutputs(Simulation *sim);
+
+// The output schedule: checkpoints and restart (src/app/checkpoint.cpp).
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
-PetscErrorCode SimulationWriteSnapshot(Simulation *sim);
-// Rewrites particles.xmf and fluid.xmf for the snapshot series.
-PetscErrorCode SimulationWriteSeriesXdmf(Simulation *sim);
 // Clears the output directory before the run writes (after the inputs are read): a fresh run removes the files of a
-// previous run; a restart removes the snapshots written after its checkpoint (RemovePreviousRun,
-// RemoveSnapshotsAfter).
+// previous run (RemovePreviousRun); a restart, the files its outputs wrote after the checkpoint (Output::RemoveStale:
+// the snapshots).
 PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim);
 PetscErrorCode SimulationWriteCheckpoint(Simulation *sim);
 PetscErrorCode SimulationReadCheckpoint(Simulation *sim);
-// Writes what is due at the current time (snapshot, checkpoint); `last` forces a final checkpoint. The guards are
-// checked before a checkpoint is written, so that every checkpoint holds a state that passed them.
+// Writes what is due at the current time (every output's Step, then a checkpoint); `last` forces a final checkpoint.
+// The guards are checked before a checkpoint is written, so that every checkpoint holds a state that passed them.
 PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last);
 // The diagnostic snapshot of a run a guard stopped (src/app/diagnostic.cpp): guard_failure.h5 with the particles
 // and gas as in a snapshot plus a "flagged" field (1 on the particles and gas cells the guard names), and

@@ -3,8 +3,10 @@
 #include "fluidbed/averaging.hpp"
 #include "fluidbed/kernels/bed_measures.hpp"
 #include "fluidbed/kernels/jet_height.hpp"
+#include "fluidbed/fluid.hpp"
+#include "fluidbed/hdf5io.hpp"
 #include "fluidbed/options.hpp"
-#include "fluidbed/simulation.hpp"
+#include "fluidbed/probes.hpp"
 
 #include <petscviewerhdf5.h>
 
@@ -44,10 +46,11 @@ PetscLogEvent ev_sample, ev_write, ev_checkpoint;
 
 } // namespace
 
-struct BedAverages {
-  Simulation *sim  = nullptr;
-  MPI_Comm    comm = MPI_COMM_NULL;
-  PetscInt    dim  = 3;
+// The averages as an output of the run: sampled at its output steps, analysis.h5 at the end, "averages" in
+// summary.json and /averages in checkpoints.
+struct BedAverages final : Output {
+  MPI_Comm comm = MPI_COMM_NULL;
+  PetscInt dim  = 3;
 
   // options
   PetscReal                    start = 0, interval = 1e-3, output_interval = 0;
@@ -81,6 +84,16 @@ struct BedAverages {
 
   PetscInt columns() const { return SERIES_JET0 + (PetscInt)jets.size(); }
   PetscInt rows() const { return (PetscInt)(series.size() / (std::size_t)columns()); }
+
+  const char    *Name() const override { return "averages"; }
+  PetscErrorCode Step(const RunView &run) override;
+  PetscErrorCode Finalize(const RunView &run) override;
+  PetscErrorCode AddSummary(const RunView &run, JsonWriter *json) override;
+  PetscErrorCode CheckpointWrite(const RunView &run, PetscViewer viewer) override;
+  PetscErrorCode CheckpointRead(const RunView &run, PetscViewer viewer) override;
+  PetscErrorCode Destroy() override;
+  // Writes <output_dir>/analysis.h5 and analysis.xmf and computes the whole-bed measures for the summary.
+  PetscErrorCode Write(const RunView &run);
 };
 
 namespace {
@@ -96,19 +109,14 @@ PetscErrorCode RegisterEvents()
   PetscFunctionReturn(0);
 }
 
-PetscReal StepLength(const Simulation *sim)
+PetscErrorCode SetFromOptions(BedAverages *a, const RunView &run, PetscBool *on)
 {
-  return sim->dem ? sim->dem->par.dt : FluidGetStats(sim->fluid).dt;
-}
-
-PetscErrorCode SetFromOptions(BedAverages *a, PetscBool *on)
-{
-  const Domain &dom   = a->sim->domain;
+  const Domain &dom   = run.domain;
   PetscReal     h[64] = {0}, ph[2] = {0.0, dom.len[1]};
   PetscInt      nh = 64, nph = 2;
   PetscBool     enable = PETSC_FALSE, set_enable, set_start, set_h, set_drop;
   // two fluid cells, but never more than the box is tall (a pure DEM scene may have a single tall cell)
-  PetscReal min_drop = PetscMin(2.0 * a->sim->grids.fluid.h[1], dom.len[1]);
+  PetscReal min_drop = PetscMin(2.0 * run.grids.fluid.h[1], dom.len[1]);
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(a->comm, "", "Time averages of the bed on the particle grid (analysis.h5, analysis.xmf, summary.json)", "Analysis");
@@ -159,12 +167,11 @@ PetscErrorCode SetFromOptions(BedAverages *a, PetscBool *on)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SetUp(BedAverages *a)
+PetscErrorCode SetUp(BedAverages *a, const RunView &run)
 {
-  Simulation         *sim = a->sim;
-  const Domain       &dom = sim->domain;
-  const ParticleGrid &pg  = sim->grids.particle;
-  const FluidGrid    &fg  = sim->grids.fluid;
+  const Domain       &dom = run.domain;
+  const ParticleGrid &pg  = run.grids.particle;
+  const FluidGrid    &fg  = run.grids.fluid;
 
   PetscFunctionBeginUser;
   a->dim  = dom.dim;
@@ -191,14 +198,14 @@ PetscErrorCode SetUp(BedAverages *a)
   }
   if (dom.dim == 2) a->block.lo[2] = a->owned.lo[2] = dom.lo[2];
 
-  if (sim->fluid) {
+  if (run.fluid) {
     DM da_eps;
     a->fgrid = kernels::cell_grid((int)dom.dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)fg.n[0],
                                   (int)fg.n[1], (int)fg.n[2]);
-    PetscCall(FluidGetJetSlots(sim->fluid, &a->jets));
+    PetscCall(FluidGetJetSlots(run.fluid, &a->jets));
     for (const auto &s : a->jets) a->jet_cells.push_back(kernels::jet_inlet_cells(a->fgrid, s[0], s[1]));
     if (!a->jets.empty()) {
-      PetscCall(FluidGetCellDMs(sim->fluid, &da_eps, NULL));
+      PetscCall(FluidGetCellDMs(run.fluid, &da_eps, NULL));
       PetscCall(DMDACreateNaturalVector(da_eps, &a->eps_nat));
       PetscCall(VecScatterCreateToZero(a->eps_nat, &a->eps_scatter, &a->eps_zero));
     }
@@ -209,7 +216,7 @@ PetscErrorCode SetUp(BedAverages *a)
 }
 
 // The jet heights of the current gas void fraction (m above the distributor), on every rank.
-PetscErrorCode JetHeights(BedAverages *a, std::vector<PetscReal> *h)
+PetscErrorCode JetHeights(BedAverages *a, const RunView &run, std::vector<PetscReal> *h)
 {
   DM                 da;
   Vec                eps;
@@ -220,8 +227,8 @@ PetscErrorCode JetHeights(BedAverages *a, std::vector<PetscReal> *h)
   h->assign(a->jets.size(), 0.0);
   if (a->jets.empty()) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(a->comm, &rank));
-  PetscCall(FluidGetCellDMs(a->sim->fluid, &da, NULL));
-  PetscCall(FluidGetVoidFraction(a->sim->fluid, &eps));
+  PetscCall(FluidGetCellDMs(run.fluid, &da, NULL));
+  PetscCall(FluidGetVoidFraction(run.fluid, &eps));
   PetscCall(DMDAGlobalToNaturalBegin(da, eps, INSERT_VALUES, a->eps_nat));
   PetscCall(DMDAGlobalToNaturalEnd(da, eps, INSERT_VALUES, a->eps_nat));
   PetscCall(VecScatterBegin(a->eps_scatter, a->eps_nat, a->eps_zero, INSERT_VALUES, SCATTER_FORWARD));
@@ -237,17 +244,16 @@ PetscErrorCode JetHeights(BedAverages *a, std::vector<PetscReal> *h)
 
 // Bins the rank's particles into its ghosted block of the particle grid (a particle may sit up to half a Verlet
 // skin outside its rank's cells between neighbour-list rebuilds) and adds the halos to their owners.
-PetscErrorCode BinParticles(BedAverages *a)
+PetscErrorCode BinParticles(BedAverages *a, const RunView &run)
 {
-  Simulation  *sim = a->sim;
   PetscScalar *s;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(a->sums_loc));
-  if (sim->swarm) {
+  if (run.swarm) {
     ParticleArrays p;
     PetscInt       outside = 0;
-    PetscCall(ParticleArraysGet(sim->swarm, &p));
+    PetscCall(ParticleArraysGet(run.swarm, &p));
     for (PetscInt q = 0; q < p.n; ++q)
       for (int d = 0; d < a->dim; ++d) {
         const int c = kernels::axis_cell(a->grid, d, p.x[a->dim * q + d]);
@@ -261,9 +267,9 @@ PetscErrorCode BinParticles(BedAverages *a)
     view.v_stride = 3;
     view.d        = p.d;
     PetscCall(VecGetArray(a->sums_loc, &s));
-    if (!outside) kernels::add_particles_to_cells(a->block, view, sim->props.density, reinterpret_cast<CellSums *>(s));
+    if (!outside) kernels::add_particles_to_cells(a->block, view, run.props.density, reinterpret_cast<CellSums *>(s));
     PetscCall(VecRestoreArray(a->sums_loc, &s));
-    PetscCall(ParticleArraysRestore(sim->swarm, &p));
+    PetscCall(ParticleArraysRestore(run.swarm, &p));
     PetscCheck(!outside, PETSC_COMM_SELF, PETSC_ERR_PLIB, "averages: a particle lies outside its rank's particle-grid halo");
   }
   PetscCall(VecZeroEntries(a->sums));
@@ -271,19 +277,16 @@ PetscErrorCode BinParticles(BedAverages *a)
   PetscFunctionReturn(0);
 }
 
-} // namespace
-
-PetscErrorCode BedAveragesSample(BedAverages *a)
+// Adds the current state as one sample.
+PetscErrorCode Sample(BedAverages *a, const RunView &run)
 {
   const PetscScalar *s;
   PetscScalar       *acc;
   const double       t0 = MPI_Wtime();
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
-  Simulation *sim = a->sim;
   PetscCall(PetscLogEventBegin(ev_sample, 0, 0, 0, 0));
-  PetscCall(BinParticles(a));
+  PetscCall(BinParticles(a, run));
 
   // add the snapshot to the window; the cross-section solid fraction for the cut-off bed height
   const double        vc = kernels::cell_volume(a->grid);
@@ -303,17 +306,17 @@ PetscErrorCode BedAveragesSample(BedAverages *a)
   for (double &v : layers) v /= (double)kernels::cells_per_layer(a->grid);
 
   std::vector<PetscReal> row((std::size_t)a->columns(), 0.0);
-  row[SERIES_TIME]   = sim->time;
+  row[SERIES_TIME]   = run.time;
   row[SERIES_CUTOFF] = kernels::cutoff_bed_height(a->grid, layers, a->cutoff);
-  if (sim->fluid && FluidGetStats(sim->fluid).steps == 0) {
+  if (run.fluid && FluidGetStats(run.fluid).steps == 0) {
     // before the first gas step the gas holds its initial fields, not the particles' void fraction: no value
     for (PetscInt c = SERIES_DP; c < a->columns(); ++c) row[(std::size_t)c] = NAN;
-  } else if (sim->fluid) {
+  } else if (run.fluid) {
     std::vector<PetscReal> p;
-    PetscCall(GasPressureProfile(sim->fluid, sim->domain, sim->grids.fluid, &p));
+    PetscCall(GasPressureProfile(run.fluid, run.domain, run.grids.fluid, &p));
     row[SERIES_DP] = kernels::pressure_drop(a->fgrid, p, a->p_low, a->p_high);
     std::vector<PetscReal> jh;
-    PetscCall(JetHeights(a, &jh));
+    PetscCall(JetHeights(a, run, &jh));
     for (std::size_t q = 0; q < jh.size(); ++q) row[SERIES_JET0 + q] = jh[q];
   }
   a->series.insert(a->series.end(), row.begin(), row.end());
@@ -325,19 +328,20 @@ PetscErrorCode BedAveragesSample(BedAverages *a)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesStep(BedAverages *a)
+} // namespace
+
+PetscErrorCode BedAverages::Step(const RunView &run)
 {
+  const PetscReal eps = 0.5 * run.dt;
+
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
-  const Simulation *sim = a->sim;
-  const PetscReal   eps = 0.5 * StepLength(sim);
-  if (sim->time >= a->next - eps) {
-    PetscCall(BedAveragesSample(a));
-    while (a->next <= sim->time + eps) a->next += a->interval;
+  if (run.time >= next - eps) {
+    PetscCall(Sample(this, run));
+    while (next <= run.time + eps) next += interval;
   }
-  if (a->output_interval > 0 && a->samples > 0 && sim->time >= a->next_output - eps) {
-    PetscCall(BedAveragesWrite(a));
-    while (a->next_output <= sim->time + eps) a->next_output += a->output_interval;
+  if (output_interval > 0 && samples > 0 && run.time >= next_output - eps) {
+    PetscCall(Write(run));
+    while (next_output <= run.time + eps) next_output += output_interval;
   }
   PetscFunctionReturn(0);
 }
@@ -418,13 +422,13 @@ struct Gathered {
   std::vector<double> measures_row;
 };
 
-PetscErrorCode Measure(BedAverages *a, Gathered *out)
+PetscErrorCode Measure(BedAverages *a, const RunView &run, Gathered *out)
 {
   Vec                nat, zero;
   VecScatter         sc;
   const PetscScalar *z;
   PetscMPIInt        rank;
-  const double       rho = a->sim->props.density;
+  const double       rho = run.props.density;
   const CellGrid    &g   = a->grid;
   BedMeasures        r;
 
@@ -507,7 +511,7 @@ PetscErrorCode Measure(BedAverages *a, Gathered *out)
       r.jet_height     = sum_mean / r.jets_detaching;
       r.jet_height_std = sum_std / r.jets_detaching;
     }
-    if (a->sim->fluid) {
+    if (run.fluid) {
       double s = 0, n = 0;
       for (PetscInt k = 0; k < a->rows(); ++k) {
         const double dp = a->series[(std::size_t)(k * a->columns() + SERIES_DP)];
@@ -526,7 +530,7 @@ PetscErrorCode Measure(BedAverages *a, Gathered *out)
 }
 
 // The per-cell fields of the owned block into a DMDA vector (dof 1 or dim) from the window's sums.
-PetscErrorCode FillField(BedAverages *a, const FieldSpec &f, Vec v)
+PetscErrorCode FillField(BedAverages *a, const RunView &run, const FieldSpec &f, Vec v)
 {
   const PetscScalar *acc;
   PetscScalar       *out;
@@ -538,7 +542,7 @@ PetscErrorCode FillField(BedAverages *a, const FieldSpec &f, Vec v)
   const CellAverageSums *ca = reinterpret_cast<const CellAverageSums *>(acc);
   for (long c = 0; c < kernels::cell_count(a->owned); ++c) {
     const CellMeans m = kernels::cell_means(ca[c], a->weight);
-    for (int k = 0; k < comps; ++k) out[comps * c + k] = f.value(a->grid, a->sim->props.density, m, k);
+    for (int k = 0; k < comps; ++k) out[comps * c + k] = f.value(a->grid, run.props.density, m, k);
   }
   PetscCall(VecRestoreArray(v, &out));
   PetscCall(VecRestoreArrayRead(a->acc, &acc));
@@ -546,13 +550,12 @@ PetscErrorCode FillField(BedAverages *a, const FieldSpec &f, Vec v)
 }
 
 // The contents of analysis.h5; out: the fields for analysis.xmf.
-PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer viewer, std::vector<XdmfCellField> *out)
+PetscErrorCode WriteAnalysis(BedAverages *a, const RunView &run, const Gathered &g, PetscViewer viewer, std::vector<XdmfCellField> *out)
 {
   Vec         scalar, vector;
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  Simulation *sim = a->sim;
   PetscCallMPI(MPI_Comm_rank(a->comm, &rank));
   std::vector<XdmfCellField> &xdmf = *out;
 
@@ -561,7 +564,7 @@ PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer view
   PetscCall(DMGetGlobalVector(a->da_vector, &vector));
   for (const FieldSpec &f : kFields) {
     Vec v = f.components == 1 ? scalar : vector;
-    PetscCall(FillField(a, f, v));
+    PetscCall(FillField(a, run, f, v));
     PetscCall(WriteField(viewer, v, f.name, f.units, f.description));
     xdmf.push_back({f.name, std::string("/fields/") + f.name, f.components == 1 ? 1 : (int)a->dim});
   }
@@ -573,7 +576,7 @@ PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer view
   // the grid
   const PetscInt n0 = rank ? 0 : 1;
   {
-    const ParticleGrid &pg        = sim->grids.particle;
+    const ParticleGrid &pg        = run.grids.particle;
     const double        origin[3] = {a->grid.lo[0], a->grid.lo[1], a->grid.lo[2]}, spacing[3] = {a->grid.h[0], a->grid.h[1], a->grid.h[2]};
     const double        cells[3] = {(double)pg.n[0], (double)pg.n[1], (double)(a->dim == 3 ? pg.n[2] : 1)};
     PetscCall(WriteArray(viewer, a->comm, "/grid", "origin", 1, 3 * n0, origin, "m", "lower corner of the particle grid x,y,z"));
@@ -621,7 +624,7 @@ PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer view
     PetscCall(WriteArray(viewer, a->comm, "/series", "time", 1, ns, col[SERIES_TIME].data(), "s", "simulated time of each sample"));
     PetscCall(WriteArray(viewer, a->comm, "/series", "cutoff_bed_height", 1, ns, col[SERIES_CUTOFF].data(), "m",
                          "instantaneous expanded bed height by the solid-fraction cut-off (-average_cutoff)"));
-    if (sim->fluid)
+    if (run.fluid)
       PetscCall(WriteArray(viewer, a->comm, "/series", "pressure_drop", 1, ns, col[SERIES_DP].data(), "Pa",
                            "gas pressure drop between -average_pressure_heights (cross-section averages); NaN before the first gas step"));
     if (nj) {
@@ -663,7 +666,7 @@ PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer view
       {"mean_downward_speed", r.speed_down, "m/s", "|v_neg,avg| of eq. 3.6", true},
       {"convective_power", r.convective_power, "W", "convective power P_c (eq. 3.8)", true},
       {"diffusive_power", r.diffusive_power, "W", "diffusive power P_d (eq. 3.9)", true},
-      {"pressure_drop", r.pressure_drop, "Pa", "mean of the sampled pressure drop", sim->fluid != nullptr},
+      {"pressure_drop", r.pressure_drop, "Pa", "mean of the sampled pressure drop", run.fluid != nullptr},
       {"jet_penetration_height", r.jet_height, "m",
        "jet penetration height: mean over the jets that shed bubbles of their mean heights "
        "before detachment",
@@ -675,57 +678,63 @@ PetscErrorCode WriteAnalysis(BedAverages *a, const Gathered &g, PetscViewer view
     for (const Scalar &s : scalars)
       if (s.write) PetscCall(WriteArray(viewer, a->comm, "/measures", s.name, 1, n0, &s.value, s.units, s.description));
   }
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &run.time));
   PetscFunctionReturn(0);
 }
 
 } // namespace
 
-PetscErrorCode BedAveragesWrite(BedAverages *a)
+PetscErrorCode BedAverages::Write(const RunView &run)
 {
   Gathered                   g;
   std::vector<XdmfCellField> xdmf;
   const double               t0 = MPI_Wtime();
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
-  Simulation *sim = a->sim;
   PetscCall(PetscLogEventBegin(ev_write, 0, 0, 0, 0));
-  PetscCall(Measure(a, &g));
-  const std::string dir = sim->run.output_dir;
+  PetscCall(Measure(this, run, &g));
+  const std::string dir = run.output_dir;
   PetscInt          n;
-  PetscCall(VecGetSize(a->acc, &n)); // the sums the averaged fields are made of: about as much data
-  PetscCall(WriteHDF5File(a->comm, dir + "/" + run_files::averages, (PetscInt64)n * (PetscInt64)sizeof(PetscScalar),
-                          [&](PetscViewer viewer) { return WriteAnalysis(a, g, viewer, &xdmf); }));
+  PetscCall(VecGetSize(acc, &n)); // the sums the averaged fields are made of: about as much data
+  PetscCall(WriteHDF5File(comm, dir + "/" + run_files::averages, (PetscInt64)n * (PetscInt64)sizeof(PetscScalar),
+                          [&](PetscViewer viewer) { return WriteAnalysis(this, run, g, viewer, &xdmf); }));
   PetscCall(XdmfWriteFile(
-    a->comm, dir + "/" + run_files::averages_xdmf,
-    XdmfDocument(XdmfCellGrid("averages", a->dim, sim->grids.particle.n, sim->domain.lo, a->grid.h, run_files::averages, xdmf, nullptr),
-                 nullptr)));
+    comm, dir + "/" + run_files::averages_xdmf,
+    XdmfDocument(XdmfCellGrid("averages", dim, run.grids.particle.n, run.domain.lo, grid.h, run_files::averages, xdmf, nullptr), nullptr)));
   PetscCall(PetscLogEventEnd(ev_write, 0, 0, 0, 0));
-  a->wall += MPI_Wtime() - t0;
+  wall += MPI_Wtime() - t0;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesSchedule(const BedAverages *a, PetscReal *start, PetscReal *interval)
+PetscErrorCode BedAverages::Finalize(const RunView &run)
 {
   PetscFunctionBeginUser;
+  PetscCall(Write(run));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BedAveragesSchedule(const Output *averages, PetscReal *start, PetscReal *interval)
+{
+  const BedAverages *a = dynamic_cast<const BedAverages *>(averages);
+
+  PetscFunctionBeginUser;
+  PetscCheck(a || !averages, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "BedAveragesSchedule: output %s is not the averages", averages->Name());
   *start    = a ? a->start : 0;
   *interval = a ? a->interval : 0;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesAddSummary(BedAverages *a, JsonWriter *json)
+PetscErrorCode BedAverages::AddSummary(const RunView &run, JsonWriter *json)
 {
   JsonWriter in;
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
-  if (!a->measured) PetscCall(Measure(a, nullptr));
-  const BedMeasures &r = a->measures;
-  in.Integer("samples", (long long)a->samples);
+  if (!measured) PetscCall(Measure(this, run, nullptr));
+  const BedMeasures &r = measures;
+  in.Integer("samples", (long long)samples);
   in.Number("window_start_s", r.window_start);
   in.Number("window_end_s", r.window_end);
-  in.Number("interval_s", a->interval);
+  in.Number("interval_s", interval);
   in.Number("expanded_bed_height_cutoff_m", r.height_cutoff);
   in.Number("expanded_bed_height_volume_m", r.height_volume);
   in.Number("bed_mass_kg", r.bed_mass);
@@ -736,39 +745,38 @@ PetscErrorCode BedAveragesAddSummary(BedAverages *a, JsonWriter *json)
   in.Number("mean_downward_speed_m_per_s", r.speed_down);
   in.Number("convective_power_W", r.convective_power);
   in.Number("diffusive_power_W", r.diffusive_power);
-  if (a->sim->fluid) in.Number("pressure_drop_mean_Pa", r.pressure_drop);
-  if (!a->jets.empty()) {
+  if (run.fluid) in.Number("pressure_drop_mean_Pa", r.pressure_drop);
+  if (!jets.empty()) {
     in.Number("jet_penetration_height_m", r.jet_height);
     in.Number("jet_penetration_height_std_m", r.jet_height_std);
     in.Integer("jet_detachments", (long long)r.jet_detachments);
   }
-  in.Number("wall_time_s", a->wall);
+  in.Number("wall_time_s", wall);
   json->Object("averages", in);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesWriteHDF5(BedAverages *a, PetscViewer viewer)
+PetscErrorCode BedAverages::CheckpointWrite(const RunView &, PetscViewer viewer)
 {
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(ev_checkpoint, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Comm_rank(a->comm, &rank));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/averages"));
-  PetscCall(VecView(a->acc, viewer));
+  PetscCall(VecView(acc, viewer));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
-  const PetscReal samples = (PetscReal)a->samples;
-  const PetscInt  cols = a->columns(), rows = a->rows();
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "samples", PETSC_REAL, &samples));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "weight", PETSC_REAL, &a->weight));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "next_sample", PETSC_REAL, &a->next));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "next_output", PETSC_REAL, &a->next_output));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "series_columns", PETSC_INT, &cols));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "series_rows", PETSC_INT, &rows));
-  if (rows) {
+  const PetscReal count = (PetscReal)samples;
+  const PetscInt  ncols = columns(), nrows = rows();
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "samples", PETSC_REAL, &count));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "weight", PETSC_REAL, &weight));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "next_sample", PETSC_REAL, &next));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "next_output", PETSC_REAL, &next_output));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "series_columns", PETSC_INT, &ncols));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/averages", "series_rows", PETSC_INT, &nrows));
+  if (nrows) {
     Vec v;
-    PetscCall(VecCreateMPIWithArray(a->comm, cols, rank ? 0 : rows * cols, PETSC_DECIDE, a->series.data(), &v));
+    PetscCall(VecCreateMPIWithArray(comm, ncols, rank ? 0 : nrows * ncols, PETSC_DECIDE, series.data(), &v));
     PetscCall(PetscObjectSetName((PetscObject)v, "series"));
     PetscCall(PetscViewerHDF5PushGroup(viewer, "/averages"));
     PetscCall(VecView(v, viewer));
@@ -779,103 +787,94 @@ PetscErrorCode BedAveragesWriteHDF5(BedAverages *a, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesReadHDF5(BedAverages *a, PetscViewer viewer)
+// A checkpoint without /averages starts the averages afresh.
+PetscErrorCode BedAverages::CheckpointRead(const RunView &run, PetscViewer viewer)
 {
   PetscBool   has;
   PetscMPIInt rank;
-  PetscInt    cols, rows;
-  PetscReal   samples;
+  PetscInt    ncols, nrows;
+  PetscReal   count;
 
   PetscFunctionBeginUser;
-  if (!a) PetscFunctionReturn(0);
-  Simulation *sim = a->sim;
-  PetscCallMPI(MPI_Comm_rank(a->comm, &rank));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscViewerHDF5HasGroup(viewer, "/averages", &has));
   if (!has) {
     // the checkpoint was written before averaging was on: start now, after the checkpoint's time
-    const PetscReal eps = 0.5 * StepLength(sim);
-    while (a->next <= sim->time + eps) a->next += a->interval;
-    a->next_output = a->next + a->output_interval;
-    PetscCall(PetscPrintf(a->comm, "Averages: the checkpoint holds none; the first sample is at t = %.6g s\n", (double)a->next));
+    const PetscReal eps = 0.5 * run.dt;
+    while (next <= run.time + eps) next += interval;
+    next_output = next + output_interval;
+    PetscCall(PetscPrintf(comm, "Averages: the checkpoint holds none; the first sample is at t = %.6g s\n", (double)next));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscLogEventBegin(ev_checkpoint, 0, 0, 0, 0));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "series_columns", PETSC_INT, NULL, &cols));
-  PetscCheck(cols == a->columns(), a->comm, PETSC_ERR_USER_INPUT,
-             "-restart %s: the checkpoint's averages follow %d jets, the options give %d (-inlet_jets must match)", sim->output.restart,
-             (int)(cols - SERIES_JET0), (int)(a->columns() - SERIES_JET0));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "series_columns", PETSC_INT, NULL, &ncols));
+  PetscCheck(ncols == columns(), comm, PETSC_ERR_USER_INPUT,
+             "-restart %s: the checkpoint's averages follow %d jets, the options give %d (-inlet_jets must match)", run.restart,
+             (int)(ncols - SERIES_JET0), (int)(columns() - SERIES_JET0));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/averages"));
-  PetscCall(VecLoad(a->acc, viewer));
+  PetscCall(VecLoad(acc, viewer));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "samples", PETSC_REAL, NULL, &samples));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "weight", PETSC_REAL, NULL, &a->weight));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "next_sample", PETSC_REAL, NULL, &a->next));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "next_output", PETSC_REAL, NULL, &a->next_output));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "series_rows", PETSC_INT, NULL, &rows));
-  a->samples = (PetscInt64)samples;
-  a->series.assign((std::size_t)(rows * cols), 0.0);
-  if (rows) {
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "samples", PETSC_REAL, NULL, &count));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "weight", PETSC_REAL, NULL, &weight));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "next_sample", PETSC_REAL, NULL, &next));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "next_output", PETSC_REAL, NULL, &next_output));
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/averages", "series_rows", PETSC_INT, NULL, &nrows));
+  samples = (PetscInt64)count;
+  series.assign((std::size_t)(nrows * ncols), 0.0);
+  if (nrows) {
     Vec                v;
     const PetscScalar *s;
-    PetscCall(VecCreateMPI(a->comm, rank ? 0 : rows * cols, PETSC_DETERMINE, &v));
-    PetscCall(VecSetBlockSize(v, cols));
+    PetscCall(VecCreateMPI(comm, rank ? 0 : nrows * ncols, PETSC_DETERMINE, &v));
+    PetscCall(VecSetBlockSize(v, ncols));
     PetscCall(PetscObjectSetName((PetscObject)v, "series"));
     PetscCall(PetscViewerHDF5PushGroup(viewer, "/averages"));
     PetscCall(VecLoad(v, viewer));
     PetscCall(PetscViewerHDF5PopGroup(viewer));
     if (!rank) {
       PetscCall(VecGetArrayRead(v, &s));
-      for (std::size_t k = 0; k < a->series.size(); ++k) a->series[k] = s[k];
+      for (std::size_t k = 0; k < series.size(); ++k) series[k] = s[k];
       PetscCall(VecRestoreArrayRead(v, &s));
     }
     PetscCall(VecDestroy(&v));
-    PetscCallMPI(MPI_Bcast(a->series.data(), (int)a->series.size(), MPIU_REAL, 0, a->comm));
+    PetscCallMPI(MPI_Bcast(series.data(), (int)series.size(), MPIU_REAL, 0, comm));
   }
-  a->measured = PETSC_FALSE;
+  measured = PETSC_FALSE;
   PetscCall(PetscLogEventEnd(ev_checkpoint, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BedAveragesCreate(Simulation *sim, BedAverages **avg)
+PetscErrorCode BedAverages::Destroy()
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterDestroy(&eps_scatter));
+  for (Vec *v : {&eps_zero, &eps_nat, &acc, &sums, &sums_loc}) PetscCall(VecDestroy(v));
+  for (DM *dm : {&da_vector, &da_scalar, &da_acc, &da_sums}) PetscCall(DMDestroy(dm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BedAveragesCreate(const RunView &run, std::unique_ptr<Output> *out)
 {
   PetscBool on;
 
   PetscFunctionBeginUser;
   PetscCall(RegisterEvents());
-  BedAverages *a = new BedAverages;
-  a->sim         = sim;
-  a->comm        = sim->comm;
-  PetscCall(SetFromOptions(a, &on));
-  if (!on) {
-    delete a;
-    *avg = nullptr;
-    PetscFunctionReturn(0);
-  }
-  PetscCall(SetUp(a));
+  out->reset();
+  std::unique_ptr<BedAverages> a = std::make_unique<BedAverages>();
+  a->comm                        = run.comm;
+  PetscCall(SetFromOptions(a.get(), run, &on));
+  if (!on) PetscFunctionReturn(0);
+  PetscCall(SetUp(a.get(), run));
   std::string hs;
   for (PetscReal h : a->heights) {
     char buf[32];
     PetscCall(PetscSNPrintf(buf, sizeof(buf), "%s%.4g", hs.empty() ? "" : ", ", 1e3 * (double)h));
     hs += buf;
   }
-  PetscCall(
-    PetscPrintf(a->comm, "Averages: every %.6g s from t = %.6g s on the %d x %d x %d particle grid%s%s%s; %d jet(s)%s -> %s/analysis.h5\n",
-                (double)a->interval, (double)a->start, a->grid.n[0], a->grid.n[1], a->grid.n[2], hs.empty() ? "" : ", profiles at ",
-                hs.c_str(), hs.empty() ? "" : " mm", (int)a->jets.size(), sim->fluid ? ", pressure drop" : "", sim->run.output_dir));
-  *avg = a;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode BedAveragesDestroy(BedAverages **avg)
-{
-  PetscFunctionBeginUser;
-  if (!*avg) PetscFunctionReturn(0);
-  BedAverages *a = *avg;
-  PetscCall(VecScatterDestroy(&a->eps_scatter));
-  for (Vec *v : {&a->eps_zero, &a->eps_nat, &a->acc, &a->sums, &a->sums_loc}) PetscCall(VecDestroy(v));
-  for (DM *dm : {&a->da_vector, &a->da_scalar, &a->da_acc, &a->da_sums}) PetscCall(DMDestroy(dm));
-  delete a;
-  *avg = nullptr;
+  PetscCall(PetscPrintf(a->comm,
+                        "Averages: every %.6g s from t = %.6g s on the %d x %d x %d particle grid%s%s%s; %d jet(s)%s -> %s/analysis.h5\n",
+                        (double)a->interval, (double)a->start, a->grid.n[0], a->grid.n[1], a->grid.n[2], hs.empty() ? "" : ", profiles at ",
+                        hs.c_str(), hs.empty() ? "" : " mm", (int)a->jets.size(), run.fluid ? ", pressure drop" : "", run.output_dir));
+  *out = std::move(a);
   PetscFunctionReturn(0);
 }
 

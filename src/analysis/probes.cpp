@@ -2,11 +2,28 @@
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/bed_statistics.hpp"
 
+#include <array>
 #include <cmath>
+#include <string>
 
 namespace fluidbed {
 
-PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProbes *pr)
+namespace {
+
+// The probes as an output: their monitor.csv columns, measured for every row.
+class GasProbes final : public Output {
+public:
+  std::vector<PetscReal>                heights; // -probe_heights, m above the distributor
+  std::vector<std::array<PetscReal, 3>> points;  // -probe_points
+
+  const char *Name() const override { return "probes"; }
+  // p_y<height in mm, '_' for the decimal point>mm_avg, then p_probe<n>
+  void Columns(std::vector<MonitorColumn> *columns) const override;
+  // heights first, then points (Pa)
+  PetscErrorCode Values(const RunView &run, std::vector<PetscReal> *values) override;
+};
+
+PetscErrorCode SetFromOptions(MPI_Comm comm, const Domain &dom, GasProbes *pr)
 {
   PetscReal h[64] = {0}, pts[3 * 64] = {0}; // -help prints the first entry as the default
   PetscInt  nh = 64, np = 3 * 64;
@@ -35,21 +52,22 @@ PetscErrorCode GasProbesSetFromOptions(MPI_Comm comm, const Domain &dom, GasProb
       pr->points.push_back({pts[3 * k], pts[3 * k + 1], pts[3 * k + 2]});
     }
   }
-  pr->values.assign(pr->heights.size() + pr->points.size(), 0.0);
   PetscFunctionReturn(0);
 }
 
-void GasProbesColumns(const GasProbes &pr, std::vector<std::string> *names)
+void GasProbes::Columns(std::vector<MonitorColumn> *columns) const
 {
   char buf[64];
-  for (PetscReal y : pr.heights) {
+  for (PetscReal y : heights) {
     snprintf(buf, sizeof(buf), "p_y%.4gmm_avg", 1e3 * (double)y);
     for (char *c = buf; *c; ++c)
       if (*c == '.') *c = '_'; // CSV readers drop dots from column names
-    names->push_back(buf);
+    columns->push_back({buf});
   }
-  for (std::size_t k = 0; k < pr.points.size(); ++k) names->push_back("p_probe" + std::to_string(k));
+  for (std::size_t k = 0; k < points.size(); ++k) columns->push_back({"p_probe" + std::to_string(k)});
 }
+
+} // namespace
 
 PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGrid &grid, std::vector<PetscReal> *profile)
 {
@@ -78,17 +96,19 @@ PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGr
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, const FluidGrid &grid)
+PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *values)
 {
   DM                 da;
   Vec                p;
   const PetscScalar *a;
   PetscInt           xs[3], xm[3];
-  const int          dim = (int)dom.dim;
+  const Domain      &dom   = run.domain;
+  const FluidGrid   &grid  = run.grids.fluid;
+  Fluid             *fluid = run.fluid;
+  const int          dim   = (int)dom.dim;
   MPI_Comm           comm;
 
   PetscFunctionBeginUser;
-  if (pr->values.empty()) PetscFunctionReturn(0);
   PetscCall(FluidGetCellDMs(fluid, &da, NULL));
   PetscCall(FluidGetPressure(fluid, &p));
   PetscCall(PetscObjectGetComm((PetscObject)da, &comm));
@@ -102,20 +122,31 @@ PetscErrorCode GasProbesMeasure(GasProbes *pr, Fluid *fluid, const Domain &dom, 
   PetscCall(GasPressureProfile(fluid, dom, grid, &prof));
   const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0],
                                                  (int)grid.n[1], (int)grid.n[2]);
-  for (std::size_t k = 0; k < pr->heights.size(); ++k) pr->values[k] = kernels::interpolate_profile(g, prof, pr->heights[k] - dom.lo[1]);
+  for (PetscReal y : heights) values->push_back(kernels::interpolate_profile(g, prof, y - dom.lo[1]));
 
   // point probes: the value of the cell holding the point, from its owner
-  std::vector<PetscReal> pl(pr->points.size(), 0.0), pg(pr->points.size());
-  for (std::size_t q = 0; q < pr->points.size(); ++q) {
+  std::vector<PetscReal> pl(points.size(), 0.0), pg(points.size());
+  for (std::size_t q = 0; q < points.size(); ++q) {
     PetscInt c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d)
-      c[d] = PetscMin(PetscMax((PetscInt)std::floor((pr->points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
+    for (int d = 0; d < dim; ++d) c[d] = PetscMin(PetscMax((PetscInt)std::floor((points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
     if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2])
       pl[q] = at(c[0], c[1], c[2]);
   }
   PetscCall(VecRestoreArrayRead(p, &a));
   if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, comm));
-  for (std::size_t q = 0; q < pg.size(); ++q) pr->values[pr->heights.size() + q] = pg[q];
+  values->insert(values->end(), pg.begin(), pg.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GasProbesCreate(const RunView &run, std::unique_ptr<Output> *out)
+{
+  std::unique_ptr<GasProbes> pr = std::make_unique<GasProbes>();
+
+  PetscFunctionBeginUser;
+  out->reset();
+  if (!run.fluid) PetscFunctionReturn(0);
+  PetscCall(SetFromOptions(run.comm, run.domain, pr.get()));
+  if (!pr->heights.empty() || !pr->points.empty()) *out = std::move(pr);
   PetscFunctionReturn(0);
 }
 

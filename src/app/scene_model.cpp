@@ -1,6 +1,7 @@
 // What a scene models, and why; and where it asks for more than it can use or less than it needs. The thresholds and
 // their reasons are in docs/stability.md ("What a scene models").
 #include "fluidbed/scene_model.hpp"
+#include "fluidbed/averaging.hpp"
 #include "fluidbed/simulation.hpp"
 #include "fluidbed/kernels/grid_ratio.hpp"
 

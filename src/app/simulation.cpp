@@ -72,11 +72,12 @@ std::string Duration(double s)
   return buf;
 }
 
-PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
+PetscErrorCode WriteSummary(Simulation *sim)
 {
-  PetscMPIInt size;
-  double      phase_max[PHASE_COUNT];
-  JsonWriter  json, phases;
+  const ParticleTotals &tot = sim->totals;
+  PetscMPIInt           size;
+  double                phase_max[PHASE_COUNT];
+  JsonWriter            json, phases;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
@@ -103,7 +104,7 @@ PetscErrorCode WriteSummary(Simulation *sim, const ParticleTotals &tot)
     json.Number("contacts_per_particle", tot.contacts_per_particle);
   }
   if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
-  PetscCall(BedAveragesAddSummary(sim->averages, &json));
+  PetscCall(OutputListAddSummary(sim->outputs, SimulationView(sim), &json));
   SceneModelAddSummary(sim->model, &json);
   {
     std::vector<std::string> unused;
@@ -161,23 +162,12 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, sim->run.couple_substeps, &sim->log, &sim->guards));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));
-  sim->monitor.particles = sim->run.particles;
-  sim->monitor.fluid     = sim->run.fluid;
-  if (sim->coupling) {
-    const char *axes[3] = {"x", "y", "z"};
-    for (const char *what : {"drag_particles_", "drag_gas_"})
-      for (PetscInt a = 0; a < sim->domain.dim; ++a) sim->monitor.extra_columns.push_back(std::string(what) + axes[a]);
-    for (const char *name : {"eps_min", "eps_max", "eps_clamped_cells"}) sim->monitor.extra_columns.push_back(name);
-  }
-  if (sim->fluid) {
-    PetscCall(GasProbesSetFromOptions(sim->comm, sim->domain, &sim->probes));
-    GasProbesColumns(sim->probes, &sim->monitor.extra_columns);
-  }
-  PetscCall(BedAveragesCreate(sim, &sim->averages));
+  PetscCall(SimulationAddOutputs(sim));
   if (restart) PetscCall(SimulationReadCheckpoint(sim));
   else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
   // Inputs read, nothing written yet: the output directory is cleared of what would mix with this run's files.
   PetscCall(SimulationRemoveStaleOutput(sim));
+  OutputListColumns(sim->outputs, &sim->monitor.columns);
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, sim->step, &sim->monitor));
 
   PetscCall(DomainView(sim->domain, viewer));
@@ -239,26 +229,13 @@ PetscErrorCode GasOnlyStep(Simulation *sim, PetscReal *dt)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode WriteMonitorRow(Simulation *sim, ParticleTotals *tot)
+PetscErrorCode WriteMonitorRow(Simulation *sim)
 {
-  std::vector<PetscReal> extra;
+  std::vector<PetscReal> values;
 
   PetscFunctionBeginUser;
-  if (sim->dem) PetscCall(ComputeParticleTotals(sim->dem, tot));
-  if (sim->coupling) {
-    const CouplingStats &cs = CouplingGetStats(sim->coupling);
-    for (PetscInt a = 0; a < sim->domain.dim; ++a) extra.push_back(cs.drag_particles[a]);
-    for (PetscInt a = 0; a < sim->domain.dim; ++a) extra.push_back(cs.drag_gas[a]);
-    extra.push_back(cs.eps_min);
-    extra.push_back(cs.eps_max);
-    extra.push_back((PetscReal)cs.clamped);
-  }
-  if (sim->fluid) {
-    PetscCall(GasProbesMeasure(&sim->probes, sim->fluid, sim->domain, sim->grids.fluid));
-    extra.insert(extra.end(), sim->probes.values.begin(), sim->probes.values.end());
-  }
-  PetscCall(MonitorWrite(sim->comm, &sim->monitor, sim->dem, sim->step, sim->time, *tot, sim->fluid ? &FluidGetStats(sim->fluid) : nullptr,
-                         &extra));
+  PetscCall(OutputListValues(sim->outputs, SimulationView(sim), &values));
+  PetscCall(MonitorWrite(sim->comm, &sim->monitor, sim->step, sim->time, values));
   PetscFunctionReturn(0);
 }
 
@@ -271,12 +248,11 @@ PetscErrorCode SimulationRun(Simulation *sim)
   const PetscReal dt_dem = dem ? dem->par.dt : 0.0;
   // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
   // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.
-  const PetscInt64 step_final = dem ? StepAtTime(sim, sim->run.t_final) : PETSC_MAX_INT;
-  const PetscInt64 step0      = sim->step;
-  const PetscInt64 step_stop  = sim->run.max_steps >= 0 ? PetscMin(step_final, step0 + sim->run.max_steps) : step_final;
-  const PetscReal  time0      = sim->time;
-  const PetscBool  restarted  = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
-  ParticleTotals   tot;
+  const PetscInt64 step_final    = dem ? StepAtTime(sim, sim->run.t_final) : PETSC_MAX_INT;
+  const PetscInt64 step0         = sim->step;
+  const PetscInt64 step_stop     = sim->run.max_steps >= 0 ? PetscMin(step_final, step0 + sim->run.max_steps) : step_final;
+  const PetscReal  time0         = sim->time;
+  const PetscBool  restarted     = sim->output.restart[0] ? PETSC_TRUE : PETSC_FALSE;
   const double     t0            = MPI_Wtime();
   double           last_progress = t0;
 
@@ -296,7 +272,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
   PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, PETSC_TRUE));
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
   if (!restarted) { // a restart continues the files after the checkpoint's row
-    PetscCall(WriteMonitorRow(sim, &tot));
+    PetscCall(WriteMonitorRow(sim));
     if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     sim->monitor.next = sim->time + sim->monitor.interval;
     if (!GuardsStopped(sim->guards)) PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
@@ -331,7 +307,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
     const PetscBool last = finished() ? PETSC_TRUE : PETSC_FALSE;
     if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     if (sim->monitor.interval == 0 || sim->time >= sim->monitor.next - 0.5 * dt || last) {
-      PetscCall(WriteMonitorRow(sim, &tot));
+      PetscCall(WriteMonitorRow(sim));
       while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
     }
     PetscCall(SimulationOutputStep(sim, last));
@@ -363,10 +339,10 @@ PetscErrorCode SimulationRun(Simulation *sim)
   if (GuardsStopped(sim->guards)) {
     // The state that failed, for ParaView, and its monitor row; the run's final files are not written from it (the
     // last checkpoint, written before the failure, is the one to continue from).
-    if (sim->monitor.last_row_step != sim->step) PetscCall(WriteMonitorRow(sim, &tot));
+    if (sim->monitor.last_row_step != sim->step) PetscCall(WriteMonitorRow(sim));
     PetscCall(SimulationWriteDiagnostic(sim, GuardsStopTrip(sim->guards)));
     PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
-    PetscCall(WriteSummary(sim, tot));
+    PetscCall(WriteSummary(sim));
     PetscCall(
       PetscPrintf(sim->comm, "Stopped by guard '%s' at step %lld, t = %.6g s (exit status %d): %s/guard_failure.xmf marks where%s\n",
                   GuardNames[GuardsStopTrip(sim->guards)->kind], (long long)sim->step, (double)sim->time, sim->exit_status,
@@ -378,16 +354,16 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/" + run_files::particles).c_str()));
   if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
     PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/" + run_files::fluid_cells).c_str()));
-  PetscCall(BedAveragesWrite(sim->averages));
+  PetscCall(OutputListFinalize(sim->outputs, SimulationView(sim)));
   PetscCall(MonitorClose(sim->comm, &sim->monitor));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
-  PetscCall(WriteSummary(sim, tot));
+  PetscCall(WriteSummary(sim));
   if (dem)
     PetscCall(PetscPrintf(
       sim->comm,
       "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-      (long long)sim->step, (double)sim->time, (long long)tot.count, (long long)dem->stats.outlet_removed, sim->wall_run,
-      sim->wall_run > 0 ? (double)tot.count * (double)sim->steps_run / sim->wall_run / size : 0.0));
+      (long long)sim->step, (double)sim->time, (long long)sim->totals.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+      sim->wall_run > 0 ? (double)sim->totals.count * (double)sim->steps_run / sim->wall_run / size : 0.0));
   if (sim->fluid) {
     const FluidStats &fs = FluidGetStats(sim->fluid);
     PetscCall(PetscPrintf(
@@ -410,7 +386,7 @@ PetscErrorCode SimulationDestroy(Simulation **sim)
   if (!*sim) PetscFunctionReturn(0);
   PetscCall(MonitorDestroy(&(*sim)->monitor));
   PetscCall(GuardsDestroy(&(*sim)->guards));
-  PetscCall(BedAveragesDestroy(&(*sim)->averages));
+  PetscCall(OutputListDestroy(&(*sim)->outputs));
   PetscCall(CouplingDestroy(&(*sim)->coupling));
   PetscCall(FluidDestroy(&(*sim)->fluid));
   PetscCall(DMDestroy(&(*sim)->swarm));

@@ -1,5 +1,4 @@
 #include "fluidbed/io.hpp"
-#include "fluidbed/fluid.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 
@@ -102,11 +101,7 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscOptionsEnd();
   if (set) m->track_ids.assign(ids, ids + nids);
   std::string header = "step,time";
-  if (m->particles)
-    header += ",particles,contacts_per_particle,ke_trans,ke_rot,pe_grav,momentum_x,momentum_y,momentum_z,max_speed,max_overlap_rel,"
-              "outlet_removed,rebuilds";
-  if (m->fluid) header += ",fluid_dt,gas_max_speed,gas_courant,ksp_its,ksp_rnorm,ksp_time,max_div,div_scale,inflow,outflow";
-  for (const std::string &name : m->extra_columns) header += "," + name;
+  for (const MonitorColumn &c : m->columns) header += "," + c.name;
   PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::monitor, append, last_step, header, &m->csv));
   if (!m->track_ids.empty())
     PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::track, append, last_step, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz",
@@ -114,25 +109,20 @@ PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time, const ParticleTotals &t,
-                            const FluidStats *fluid, const std::vector<PetscReal> *extra)
+PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, PetscInt64 step, PetscReal time, const std::vector<PetscReal> &values)
 {
   OutputFile *f = &m->csv;
 
   PetscFunctionBeginUser;
+  PetscCheck(values.size() == m->columns.size(), comm, PETSC_ERR_PLIB, "monitor.csv: %d values for %d columns", (int)values.size(),
+             (int)m->columns.size());
   m->last_row_step = step;
   OutputFilePrintf(f, "%lld,%.10e", (long long)step, (double)time);
-  if (m->particles)
-    OutputFilePrintf(f, ",%lld,%.6g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.6e,%.6e,%lld,%lld", (long long)t.count,
-                     (double)t.contacts_per_particle, (double)t.ke_trans, (double)t.ke_rot, (double)t.pe_grav, (double)t.momentum[0],
-                     (double)t.momentum[1], (double)t.momentum[2], (double)t.max_speed, (double)t.max_overlap_rel,
-                     (long long)dem->stats.outlet_removed, (long long)dem->stats.rebuilds);
-  if (m->fluid && fluid)
-    OutputFilePrintf(f, ",%.6e,%.6e,%.4f,%d,%.6e,%.6e,%.6e,%.6e,%.15e,%.15e", (double)fluid->dt, (double)fluid->max_speed,
-                     (double)fluid->courant, (int)fluid->ksp_its, (double)fluid->ksp_rnorm, (double)fluid->ksp_time, (double)fluid->max_div,
-                     (double)fluid->rhs_scale, (double)fluid->inflow, (double)fluid->outflow);
-  if (extra)
-    for (PetscReal v : *extra) OutputFilePrintf(f, ",%.12e", (double)v);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    OutputFilePrintf(f, ",");
+    if (m->columns[k].format) OutputFilePrintf(f, m->columns[k].format, (double)values[k]);
+    else OutputFilePrintf(f, "%lld", (long long)values[k]); // a count, exact in a double
+  }
   OutputFilePrintf(f, "\n");
   PetscCall(OutputFileFlush(comm, f));
   PetscFunctionReturn(0);

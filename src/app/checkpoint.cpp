@@ -1,4 +1,5 @@
-// HDF5 snapshots with their XDMF series, checkpoints written atomically, and restart.
+// The run's output schedule: checkpoints written atomically, each with the run's state and every output's part of it,
+// restart from one, the clean-up of the output directory, and the outputs due at every output step.
 #include "fluidbed/checkpoint_check.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/simulation.hpp"
@@ -175,82 +176,23 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   OutputSetReserve(reserve);
   if (!o.checkpoint_file[0])
     PetscCall(PetscSNPrintf(o.checkpoint_file, sizeof(o.checkpoint_file), "%s/%s", sim->run.output_dir, run_files::checkpoint));
-  o.next            = 0.0; // the initial state is the first snapshot
   o.next_checkpoint = o.checkpoint_interval;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SimulationWriteSeriesXdmf(Simulation *sim)
-{
-  const std::vector<SnapshotRecord> &series = sim->output.series;
-
-  PetscFunctionBeginUser;
-  if (sim->swarm) PetscCall(XdmfWriteParticles(sim->comm, sim->run.output_dir, sim->domain.dim, series));
-  if (sim->fluid && !sim->output.fluid_nodes_written) { // the 2D gas grid's node coordinates, once per run
-    PetscCall(XdmfWriteFluidNodes(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid));
-    sim->output.fluid_nodes_written = true;
-  }
-  if (sim->fluid) PetscCall(XdmfWriteFluid(sim->comm, sim->run.output_dir, sim->domain, sim->grids.fluid, series));
-  PetscFunctionReturn(0);
-}
-
-namespace {
-// The particle and gas data of a snapshot or (full) a checkpoint, the bulk of the file.
-PetscErrorCode SimulationHDF5Bytes(Simulation *sim, PetscBool full, PetscInt64 *bytes)
-{
-  PetscInt64 part = 0, gas = 0;
-
-  PetscFunctionBeginUser;
-  if (sim->swarm) PetscCall(ParticlesHDF5Bytes(sim->swarm, full, &part));
-  if (sim->fluid) PetscCall(FluidHDF5Bytes(sim->fluid, full, &gas));
-  *bytes = part + gas;
-  PetscFunctionReturn(0);
-}
-} // namespace
-
-PetscErrorCode SimulationWriteSnapshot(Simulation *sim)
-{
-  OutputSchedule   &o    = sim->output;
-  const std::string name = run_files::Snapshot((PetscInt)o.series.size()), path = std::string(sim->run.output_dir) + "/" + name;
-  PetscInt64        n = 0, bytes;
-
-  PetscFunctionBeginUser;
-  if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &n));
-  PetscCall(SimulationHDF5Bytes(sim, PETSC_FALSE, &bytes));
-  // the XDMF series lists a snapshot only once its file is complete
-  PetscCall(WriteHDF5File(sim->comm, path, bytes, [&](PetscViewer viewer) {
-    PetscFunctionBeginUser;
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-    if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_FALSE));
-    if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_FALSE));
-    PetscFunctionReturn(0);
-  }));
-  o.series.push_back({sim->time, name, n});
-  PetscCall(SimulationWriteSeriesXdmf(sim));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
 {
   OutputSchedule &o = sim->output;
-  PetscMPIInt     rank, size;
+  PetscMPIInt     size;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   // Migration, contact-history sync and neighbour lists now, as a restart does when it loads the checkpoint: both
   // runs then continue from the same ownership of particles by ranks (the coupling's cell sums depend on it).
   if (sim->dem) PetscCall(DemRebuild(sim->dem));
-  // the snapshot series, so that particles.xmf continues after a restart
-  const PetscInt         ns = rank ? 0 : (PetscInt)o.series.size();
-  std::vector<PetscReal> rows(2 * (std::size_t)ns);
-  for (PetscInt k = 0; k < ns; ++k) {
-    rows[2 * (std::size_t)k]     = o.series[(std::size_t)k].time;
-    rows[2 * (std::size_t)k + 1] = (PetscReal)o.series[(std::size_t)k].particles;
-  }
-  const PetscInt total = (PetscInt)o.series.size();
-  PetscInt64     bytes;
-  PetscCall(SimulationHDF5Bytes(sim, PETSC_TRUE, &bytes));
+  const RunView run = SimulationView(sim);
+  PetscInt64    bytes;
+  PetscCall(StateHDF5Bytes(sim->swarm, sim->fluid, PETSC_TRUE, &bytes));
   PetscCall(WriteHDF5File(sim->comm, o.checkpoint_file, bytes, [&](PetscViewer viewer) {
     PetscFunctionBeginUser;
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", kCheckpointMarker, PETSC_INT, &kCheckpointFormat)); // snapshots have none
@@ -270,20 +212,11 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &sim->run.couple_substeps));
     PetscCall(WriteScene(sim, viewer));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshot_next", PETSC_REAL, &o.next));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "snapshots", PETSC_INT, &total));
-    if (total) {
-      Vec v;
-      PetscCall(VecCreateMPIWithArray(sim->comm, 2, 2 * ns, PETSC_DECIDE, rows.data(), &v));
-      PetscCall(PetscObjectSetName((PetscObject)v, "snapshot_series"));
-      PetscCall(VecView(v, viewer));
-      PetscCall(VecDestroy(&v));
-    }
     if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
     if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
     if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
-    PetscCall(BedAveragesWriteHDF5(sim->averages, viewer));
+    PetscCall(OutputListCheckpointWrite(sim->outputs, run, viewer)); // the snapshot series, the averages, ...
     PetscFunctionReturn(0);
   }));
   PetscFunctionReturn(0);
@@ -293,7 +226,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
 {
   OutputSchedule &o = sim->output;
   PetscViewer     viewer;
-  PetscInt        dim, total = 0;
+  PetscInt        dim;
   PetscReal       dt;
 
   PetscFunctionBeginUser;
@@ -340,27 +273,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     if (has) PetscCall(ReadCount(viewer, "particles_lost", &sim->dem->stats.lost.count));
   }
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshot_next", PETSC_REAL, NULL, &o.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "snapshots", PETSC_INT, NULL, &total));
-  o.series.clear();
-  if (total) {
-    Vec                v;
-    const PetscScalar *a;
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * total, &v)); // every rank keeps the (short) series
-    PetscCall(PetscObjectSetName((PetscObject)v, "snapshot_series"));
-    PetscCall(VecSetBlockSize(v, 2));
-    {
-      PetscViewer self;
-      PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, o.restart, FILE_MODE_READ, &self));
-      PetscCall(VecLoad(v, self));
-      PetscCall(PetscViewerDestroy(&self));
-    }
-    PetscCall(VecGetArrayRead(v, &a));
-    for (PetscInt k = 0; k < total; ++k) o.series.push_back({a[2 * k], run_files::Snapshot(k), (PetscInt64)a[2 * k + 1]});
-    PetscCall(VecRestoreArrayRead(v, &a));
-    PetscCall(VecDestroy(&v));
-  }
   if (sim->swarm) {
     PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
     // inserted = present + left through the outlet + lost, across restarts
@@ -388,7 +301,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
                             (int)substeps));
     }
   }
-  PetscCall(BedAveragesReadHDF5(sim->averages, viewer));
+  PetscCall(OutputListCheckpointRead(sim->outputs, SimulationView(sim), viewer)); // once the run's own state is read
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
@@ -403,27 +316,18 @@ PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim)
     std::vector<std::string> also; // this run's checkpoint, wherever -checkpoint_file keeps it
     if (o.checkpoint_interval > 0) also.push_back(o.checkpoint_file);
     PetscCall(RemovePreviousRun(sim->comm, dir, also, {sim->inserted.file}));
-  } else {
-    PetscInt removed;
-    PetscCall(RemoveSnapshotsAfter(sim->comm, dir, (PetscInt)o.series.size(), {o.restart}, &removed));
-    if (removed && !o.series.empty()) PetscCall(SimulationWriteSeriesXdmf(sim)); // the XDMF files listed the removed snapshots
-    else if (removed)
-      for (const char *name : {run_files::particles_xdmf, run_files::fluid_xdmf}) PetscCall(RemoveRunFile(sim->comm, dir + "/" + name));
-  }
+  } else PetscCall(OutputListRemoveStale(sim->outputs, SimulationView(sim)));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
 {
-  OutputSchedule &o  = sim->output;
-  const PetscReal dt = sim->dem ? sim->dem->par.dt : FluidGetStats(sim->fluid).dt, eps = 0.5 * dt;
+  OutputSchedule &o   = sim->output;
+  const RunView   run = SimulationView(sim);
+  const PetscReal eps = 0.5 * run.dt;
 
   PetscFunctionBeginUser;
-  PetscCall(BedAveragesStep(sim->averages)); // before this step's checkpoint, which then holds its sample
-  if (o.interval > 0 && sim->time >= o.next - eps) {
-    PetscCall(SimulationWriteSnapshot(sim));
-    while (o.next <= sim->time + eps) o.next += o.interval;
-  }
+  PetscCall(OutputListStep(sim->outputs, run)); // before this step's checkpoint, which then holds its samples
   const PetscBool checkpoint_due = (PetscBool)(o.checkpoint_interval > 0 && (sim->dem ? sim->step >= StepAtTime(sim, o.next_checkpoint)
                                                                                       : sim->time >= o.next_checkpoint - eps));
   if (o.checkpoint_interval > 0 && (checkpoint_due || last)) {
