@@ -167,7 +167,6 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   PetscCall(OptionsString(PetscOptionsObject, "-restart",
                           "Continue from this checkpoint (any number of ranks); the scene's options must match it",
                           "a checkpoint file (checkpoint.h5)", o.restart, sizeof(o.restart), NULL));
-  PetscBool reserve = PETSC_TRUE;
   PetscCall(OptionsBool(PetscOptionsObject, "-output_reserve",
                         "Reserve each HDF5 file's space before writing it, so that a full disk or a file-size limit stops the run cleanly "
                         "on every rank (off: a failure inside parallel HDF5 aborts the job, still with exit status 3)",
