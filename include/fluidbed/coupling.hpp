@@ -44,10 +44,10 @@ struct CouplingStats {
   PetscInt64 cells       = 0;            // coupling cells in all
 };
 
-// Reads -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and sets the
-// buoyancy factor.
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps,
-                              PhaseLog *log, Coupling **coupling);
+// Reads -couple_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and
+// sets the buoyancy factor.
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PhaseLog *log,
+                              Coupling **coupling);
 // The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
 PetscErrorCode       CouplingSetUp(Coupling *coupling);
 PetscErrorCode       CouplingBeforeFluidStep(Coupling *coupling);
@@ -64,11 +64,15 @@ const char *CouplingDragName(const Coupling *coupling);
 PetscBool   CouplingOnParticleGrid(const Coupling *coupling);
 // Whether the next step is a gas step: the coupling counts the DEM steps of each gas step (-couple_substeps).
 PetscBool CouplingGasStepDue(const Coupling *coupling);
-// -couple_substeps changed on a restart (a rescue): the steps already taken of the current gas step are kept.
-PetscErrorCode CouplingSetSubsteps(Coupling *coupling, PetscInt substeps);
+// -couple_substeps: DEM steps per gas step.
+PetscInt CouplingSubsteps(const Coupling *coupling);
+// The coupled gas step (DEM step x -couple_substeps; -fluid_dt is an input error with particles) and the gas's own
+// explicit limit for its current state, s.
+PetscErrorCode CouplingGasStep(Coupling *coupling, PetscReal *dt_gas, PetscReal *dt_max);
 
 // The coupling state a checkpoint needs to continue bit for bit (/coupling: per-cell sums, void fraction, the
-// DEM steps left before the next gas step); natural ordering, any number of ranks.
+// DEM steps left before the next gas step); natural ordering, any number of ranks. Reading a checkpoint whose run had
+// other -couple_substeps (the root attribute couple_substeps) keeps the DEM steps already taken of the gas step.
 PetscErrorCode CouplingWriteHDF5(Coupling *coupling, PetscViewer viewer);
 PetscErrorCode CouplingReadHDF5(Coupling *coupling, PetscViewer viewer);
 PetscErrorCode CouplingDestroy(Coupling **coupling);

@@ -83,7 +83,6 @@ struct Guards {
   Fluid        *fluid    = nullptr;
   Coupling     *coupling = nullptr;
   PhaseLog     *log      = nullptr;
-  PetscInt      substeps = 1;
   PetscBool     closed   = PETSC_FALSE; // no energy input: the energy guard applies
 
   kernels::SustainedExceedance courant_run;
@@ -96,12 +95,9 @@ struct Guards {
   GuardFigures                 fig;
 };
 
-// Reads -guard_*; dem, fluid and coupling may be null (what the scene does not simulate). substeps: DEM steps per
-// gas step.
-PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid *fluid, Coupling *coupling, PetscInt substeps,
-                            PhaseLog *log, Guards **guards);
-// -couple_substeps changed on a restart.
-void           GuardsSetSubsteps(Guards *guards, PetscInt substeps);
+// Reads -guard_*; dem, fluid and coupling may be null (what the scene does not simulate).
+PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid *fluid, Coupling *coupling, PhaseLog *log,
+                            Guards **guards);
 PetscErrorCode GuardsView(const Guards *guards, PetscViewer viewer);
 // After a DEM step (or the initial state at step 0): every -guard_interval steps, or always with force (before a
 // checkpoint, at the last step) or when the step halted.

@@ -27,7 +27,6 @@ struct RunControl {
   char      output_dir[PETSC_MAX_PATH_LEN] = "output";
   PetscBool fluid                          = PETSC_FALSE; // -fluid: the gas phase
   PetscBool particles                      = PETSC_TRUE;  // -particles: the DEM
-  PetscInt  couple_substeps                = 1;           // -couple_substeps: gas step = DEM step x this, with both on
 };
 
 // HDF5 snapshots every -output_interval (the snapshot series output), checkpoints every -checkpoint_interval,

@@ -208,7 +208,8 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
     }
     PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &sim->run.couple_substeps));
+    const PetscInt substeps = sim->coupling ? CouplingSubsteps(sim->coupling) : 1;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &substeps));
     PetscCall(WriteScene(sim, viewer));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
@@ -289,17 +290,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
     PetscCall(FluidReadHDF5(sim->fluid, viewer));
   }
-  if (sim->coupling) {
-    PetscInt substeps = sim->run.couple_substeps;
-    PetscCall(CouplingReadHDF5(sim->coupling, viewer));
-    PetscCall(HasAttribute(viewer, "couple_substeps", &has));
-    if (has) PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "couple_substeps", PETSC_INT, NULL, &substeps));
-    if (substeps != sim->run.couple_substeps) {
-      PetscCall(CouplingSetSubsteps(sim->coupling, sim->run.couple_substeps));
-      PetscCall(PetscPrintf(sim->comm, "Restart with -couple_substeps %d (the checkpoint's run had %d)\n", (int)sim->run.couple_substeps,
-                            (int)substeps));
-    }
-  }
+  if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
   PetscCall(OutputListCheckpointRead(sim->outputs, SimulationView(sim), viewer)); // once the run's own state is read
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);

@@ -260,9 +260,9 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   }
 
   if (cpl) {
-    row("gas step", Count(sim->run.couple_substeps, "DEM step") + Format(" = %.4g s", (double)(sim->run.couple_substeps * dem->par.dt)),
-        given.Why({"-couple_substeps"}));
-    json.Integer("substeps", (long long)sim->run.couple_substeps);
+    const PetscInt substeps = CouplingSubsteps(cpl);
+    row("gas step", Count(substeps, "DEM step") + Format(" = %.4g s", (double)(substeps * dem->par.dt)), given.Why({"-couple_substeps"}));
+    json.Integer("substeps", (long long)substeps);
   } else if (gas) {
     const PetscReal fixed = FluidFixedTimeStep(gas);
     row("gas step", fixed > 0 ? Format("fixed, %.4g s", (double)fixed) : "follows the gas limits", given.Why({"-fluid_dt", "-fluid_cfl"}));

@@ -25,8 +25,6 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscCall(OptionsBool(PetscOptionsObject, "-fluid", "Turn the gas phase on (-fluid_*, -fluid_bc_*, -inlet_*, -fluid_p_* options)",
                         &r->fluid, NULL));
   PetscCall(OptionsBool(PetscOptionsObject, "-particles", "Turn the particles (DEM) on", &r->particles, NULL));
-  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step when both are on (gas step = DEM step x this)", 1,
-                       100000, &r->couple_substeps, NULL));
   PetscOptionsEnd();
   PetscCheck(r->fluid || r->particles, comm, PETSC_ERR_USER_INPUT, "-particles 0 needs -fluid: there is nothing to simulate");
   PetscFunctionReturn(0);
@@ -157,9 +155,8 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(FluidSetUp(sim->fluid));
   }
   if (sim->dem && sim->fluid)
-    PetscCall(
-      CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, sim->run.couple_substeps, &sim->log, &sim->coupling));
-  PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, sim->run.couple_substeps, &sim->log, &sim->guards));
+    PetscCall(CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, &sim->log, &sim->coupling));
+  PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, &sim->log, &sim->guards));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));
   PetscCall(SimulationAddOutputs(sim));
@@ -190,13 +187,11 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
                                      (long long)sim->step));
   if (sim->fluid) {
     PetscCall(FluidView(sim->fluid, viewer));
-    if (sim->dem) {
+    if (sim->coupling) {
       // coupled: the gas step is a whole number of DEM steps and must respect the gas limits
-      const PetscReal dt_gas = sim->dem->par.dt * sim->run.couple_substeps;
-      PetscReal       dt_max;
-      PetscCheck(FluidFixedTimeStep(sim->fluid) == 0, sim->comm, PETSC_ERR_USER_INPUT,
-                 "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
-      PetscCall(FluidMaxTimeStep(sim->fluid, &dt_max));
+      const PetscInt substeps = CouplingSubsteps(sim->coupling);
+      PetscReal      dt_gas, dt_max;
+      PetscCall(CouplingGasStep(sim->coupling, &dt_gas, &dt_max));
       // Said on the initial state: the gas step may exceed its explicit limit for a while (a jet entering a packed bed)
       // without harm, so the run goes on and the Courant guard stops it when the excess persists.
       if (!restart && dt_gas > dt_max)
@@ -204,9 +199,9 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
           PetscPrintf(sim->comm,
                       "WARNING: the gas step %.6g s (DEM step %.6g s x -couple_substeps %d) exceeds the gas limit %.6g s at the start "
                       "(Courant number %.3g); the Courant guard stops the run if it stays above -guard_courant. To fit: %s\n",
-                      (double)dt_gas, (double)sim->dem->par.dt, (int)sim->run.couple_substeps, (double)dt_max,
+                      (double)dt_gas, (double)sim->dem->par.dt, (int)substeps, (double)dt_max,
                       (double)(dt_gas / dt_max * FluidCfl(sim->fluid)), GuardsCourantRemedy(sim->guards, dt_max).c_str()));
-      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)sim->run.couple_substeps, (double)dt_gas));
+      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)substeps, (double)dt_gas));
     }
   }
   // Every module exists and has read its options: what the scene models, and where it asks for more or less than it can use.
@@ -244,7 +239,7 @@ PetscErrorCode WriteMonitorRow(Simulation *sim)
 PetscErrorCode SimulationRun(Simulation *sim)
 {
   Dem            *dem    = sim->dem;
-  const PetscInt  sub    = (dem && sim->fluid) ? sim->run.couple_substeps : 1; // DEM steps per gas step
+  const PetscInt  sub    = sim->coupling ? CouplingSubsteps(sim->coupling) : 1; // DEM steps per gas step
   const PetscReal dt_dem = dem ? dem->par.dt : 0.0;
   // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
   // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.

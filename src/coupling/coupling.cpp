@@ -266,21 +266,21 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
 
 } // namespace
 
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, Dem *dem, Fluid *fluid, PetscInt substeps,
-                              PhaseLog *log, Coupling **out)
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, Dem *dem, Fluid *fluid, PhaseLog *log, Coupling **out)
 {
   Coupling *c = new Coupling;
 
   PetscFunctionBeginUser;
-  c->comm     = comm;
-  c->dom      = &dom;
-  c->grids    = &grids;
-  c->dem      = dem;
-  c->fluid    = fluid;
-  c->log      = log;
-  c->dim      = dom.dim;
-  c->substeps = substeps;
+  c->comm  = comm;
+  c->dom   = &dom;
+  c->grids = &grids;
+  c->dem   = dem;
+  c->fluid = fluid;
+  c->log   = log;
+  c->dim   = dom.dim;
   PetscOptionsBegin(comm, "", "Gas-particle coupling (seed eq. 2.11-2.21, two-grid mapping eq. 5.1-5.5)", "Coupling");
+  PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step (gas step = DEM step x this)", 1, 100000,
+                       &c->substeps, NULL));
   PetscCall(OptionsEnum(PetscOptionsObject, "-couple_grid",
                         "Where void fraction and drag are summed: two (particle grid, eq. 5.1-5.5) or single (fluid grid)",
                         CouplingGridTypes, (PetscEnum *)&c->mode, NULL));
@@ -445,6 +445,17 @@ PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/coupling", "until_gas", PETSC_INT, NULL, &c->until_gas));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  {
+    // a rescue may change -couple_substeps on a restart: the DEM steps already taken of the current gas step are kept
+    PetscInt  substeps = c->substeps;
+    PetscBool has;
+    PetscCall(PetscViewerHDF5HasAttribute(viewer, "/", "couple_substeps", &has));
+    if (has) PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "couple_substeps", PETSC_INT, NULL, &substeps));
+    if (substeps != c->substeps) {
+      c->until_gas = PetscMin(c->until_gas, c->substeps);
+      PetscCall(PetscPrintf(c->comm, "Restart with -couple_substeps %d (the checkpoint's run had %d)\n", (int)c->substeps, (int)substeps));
+    }
+  }
   PetscFunctionReturn(0);
 }
 
@@ -502,11 +513,18 @@ PetscBool CouplingGasStepDue(const Coupling *c)
   return c->until_gas <= 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
-PetscErrorCode CouplingSetSubsteps(Coupling *c, PetscInt substeps)
+PetscInt CouplingSubsteps(const Coupling *c)
+{
+  return c->substeps;
+}
+
+PetscErrorCode CouplingGasStep(Coupling *c, PetscReal *dt_gas, PetscReal *dt_max)
 {
   PetscFunctionBeginUser;
-  c->substeps  = substeps;
-  c->until_gas = PetscMin(c->until_gas, substeps);
+  PetscCheck(FluidFixedTimeStep(c->fluid) == 0, c->comm, PETSC_ERR_USER_INPUT,
+             "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
+  *dt_gas = c->dem->par.dt * c->substeps;
+  PetscCall(FluidMaxTimeStep(c->fluid, dt_max));
   PetscFunctionReturn(0);
 }
 

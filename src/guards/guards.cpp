@@ -240,14 +240,14 @@ std::string CourantRemedy(const Guards *g, PetscReal dt_max)
     const FluidStats &fs = FluidGetStats(g->fluid);
     return Format("a shorter gas step: -fluid_dt at most %.4g s (now %.4g s), or leave -fluid_dt unset", (double)dt_max, (double)fs.dt);
   }
-  const PetscReal dt = g->dem->par.dt;
-  const PetscInt  k  = (PetscInt)(dt_max / dt);
-  if (g->substeps > 1 && k >= 1)
-    return Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)g->substeps);
+  const PetscReal dt       = g->dem->par.dt;
+  const PetscInt  k        = (PetscInt)(dt_max / dt);
+  const PetscInt  substeps = g->coupling ? CouplingSubsteps(g->coupling) : 1;
+  if (substeps > 1 && k >= 1) return Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)substeps);
   return Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: -dem_dt_factor at "
                 "most %.3g (now %.3g), a coarser gas grid (-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is "
                 "held at the floor (-couple_eps_min) the gas speeds up through those cells: fix the grid first",
-                (double)dt, (double)dt_max, (int)g->substeps, (double)(g->dem->par.dt_factor * dt_max / dt), (double)g->dem->par.dt_factor);
+                (double)dt, (double)dt_max, (int)substeps, (double)(g->dem->par.dt_factor * dt_max / dt), (double)g->dem->par.dt_factor);
 }
 
 } // namespace
@@ -313,8 +313,7 @@ PetscErrorCode TripVoidFraction(Guards *g, PetscInt64 step, PetscReal time, cons
 
 } // namespace
 
-PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid *fluid, Coupling *coupling, PetscInt substeps,
-                            PhaseLog *log, Guards **out)
+PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid *fluid, Coupling *coupling, PhaseLog *log, Guards **out)
 {
   Guards   *g      = new Guards;
   PetscEnum action = (PetscEnum)g->opt.action;
@@ -326,7 +325,6 @@ PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid
   g->fluid    = fluid;
   g->coupling = coupling;
   g->log      = log;
-  g->substeps = substeps;
   // Pure DEM, walls at rest, nothing flows in: the energy cannot grow. Not with gravity along a periodic direction,
   // where particles fall without end (the gravitational energy jumps at each wrap).
   g->closed = (PetscBool)(dem && !fluid);
@@ -360,11 +358,6 @@ PetscErrorCode GuardsCreate(MPI_Comm comm, const Domain &domain, Dem *dem, Fluid
   o.action = (GuardAction)action;
   *out     = g;
   PetscFunctionReturn(0);
-}
-
-void GuardsSetSubsteps(Guards *g, PetscInt substeps)
-{
-  g->substeps = substeps;
 }
 
 PetscErrorCode GuardsView(const Guards *g, PetscViewer viewer)

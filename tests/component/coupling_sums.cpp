@@ -358,7 +358,7 @@ int main(int argc, char **argv)
   PetscCall(DemCreateSwarm(s.dem, &s.swarm));
   PetscCall(FluidCreate(s.comm, s.dom, s.grids.fluid, &s.log, &s.fluid));
   PetscCall(FluidSetUp(s.fluid));
-  PetscCall(CouplingCreate(s.comm, s.dom, s.grids, s.dem, s.fluid, 1, &s.log, &s.coupling));
+  PetscCall(CouplingCreate(s.comm, s.dom, s.grids, s.dem, s.fluid, &s.log, &s.coupling));
   PetscCall(CouplingCellSize(s.coupling, s.h, s.ratio));
   for (int a = 0; a < 3; ++a) s.n[a] = s.grids.fluid.n[a] / s.ratio[a];
   PetscCall(DragLawGet(CouplingDragName(s.coupling), &s.law));
