@@ -78,7 +78,7 @@ inline PetscInt64 StepAtTime(PetscReal t, PetscReal dt, PetscInt64 step0 = 0, Pe
 }
 inline PetscInt64 StepAtTime(const Simulation *sim, PetscReal t)
 {
-  return StepAtTime(t, sim->dem->par.dt, sim->step_origin, sim->time_origin);
+  return StepAtTime(t, DemGetParams(sim->dem).dt, sim->step_origin, sim->time_origin);
 }
 
 PetscErrorCode SimulationCreate(MPI_Comm comm, Simulation **sim);

@@ -61,7 +61,7 @@ std::vector<SceneValue> SceneValues(const Simulation *sim)
   }
   num("domain_top_outlet", "-domain_top_outlet", d.top_outlet ? 1 : 0);
   if (sim->dem) {
-    const DemParams &p = sim->dem->par;
+    const DemParams &p = DemGetParams(sim->dem);
     num("particle_diameter_min", "-particle_diameter_min", sim->props.d_min);
     num("particle_diameter_max", "-particle_diameter_max", sim->props.d_max);
     num("particle_density", "-particle_density", sim->props.density);
@@ -197,14 +197,14 @@ PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", kCheckpointMarker, PETSC_INT, &kCheckpointFormat)); // snapshots have none
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
     PetscCall(WriteCount(viewer, "step", sim->step));
-    if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &sim->dem->par.dt));
+    if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &DemGetParams(sim->dem).dt));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
     if (sim->dem) {
-      PetscCall(WriteCount(viewer, "particles_outlet", sim->dem->stats.outlet_removed));
+      PetscCall(WriteCount(viewer, "particles_outlet", DemGetStats(sim->dem)->outlet_removed));
       PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
-      PetscCall(WriteCount(viewer, "particles_lost", sim->dem->stats.lost.count));
-      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &sim->dem->par.dt_factor));
+      PetscCall(WriteCount(viewer, "particles_lost", DemGetStats(sim->dem)->lost.count));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &DemGetParams(sim->dem).dt_factor));
     }
     PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
@@ -254,11 +254,11 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     PetscCall(HasAttribute(viewer, "dt", &has_dt));
     PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
     PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
-    new_dt = (PetscBool)(PetscAbsReal(dt - sim->dem->par.dt) > 1e-12 * dt);
+    new_dt = (PetscBool)(PetscAbsReal(dt - DemGetParams(sim->dem).dt) > 1e-12 * dt);
     // a checkpoint that does not record its scene cannot tell a new time step from new physics
     PetscCheck(!new_dt || has_scene, sim->comm, PETSC_ERR_USER_INPUT,
                "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
-               o.restart, (double)dt, (double)sim->dem->par.dt);
+               o.restart, (double)dt, (double)DemGetParams(sim->dem).dt);
     if (new_dt) {
       // a rescue with another -dem_dt_factor: the steps count on from the checkpoint with the new length
       PetscReal factor = 0;
@@ -266,11 +266,11 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
       sim->step_origin = sim->step;
       sim->time_origin = sim->time;
       PetscCall(PetscPrintf(sim->comm, "Restart with a new time step: dt %.6g s -> %.6g s (-dem_dt_factor %.6g -> %.6g)\n", (double)dt,
-                            (double)sim->dem->par.dt, (double)factor, (double)sim->dem->par.dt_factor));
+                            (double)DemGetParams(sim->dem).dt, (double)factor, (double)DemGetParams(sim->dem).dt_factor));
     }
-    PetscCall(ReadCount(viewer, "particles_outlet", &sim->dem->stats.outlet_removed));
+    PetscCall(ReadCount(viewer, "particles_outlet", &DemGetStats(sim->dem)->outlet_removed));
     PetscCall(HasAttribute(viewer, "particles_lost", &has));
-    if (has) PetscCall(ReadCount(viewer, "particles_lost", &sim->dem->stats.lost.count));
+    if (has) PetscCall(ReadCount(viewer, "particles_lost", &DemGetStats(sim->dem)->lost.count));
   }
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
@@ -281,7 +281,7 @@ PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
     if (has) PetscCall(ReadCount(viewer, "particles_inserted", &sim->inserted.count));
     else {
       PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
-      sim->inserted.count += sim->dem->stats.outlet_removed;
+      sim->inserted.count += DemGetStats(sim->dem)->outlet_removed;
     }
   }
   if (sim->fluid) {

@@ -36,9 +36,9 @@ public:
 
     PetscFunctionBeginUser;
     PetscCall(ComputeParticleTotals(dem_, last_));
-    values->insert(values->end(),
-                   {(PetscReal)t.count, t.contacts_per_particle, t.ke_trans, t.ke_rot, t.pe_grav, t.momentum[0], t.momentum[1],
-                    t.momentum[2], t.max_speed, t.max_overlap_rel, (PetscReal)dem_->stats.outlet_removed, (PetscReal)dem_->stats.rebuilds});
+    values->insert(values->end(), {(PetscReal)t.count, t.contacts_per_particle, t.ke_trans, t.ke_rot, t.pe_grav, t.momentum[0],
+                                   t.momentum[1], t.momentum[2], t.max_speed, t.max_overlap_rel,
+                                   (PetscReal)DemGetStats(dem_)->outlet_removed, (PetscReal)DemGetStats(dem_)->rebuilds});
     PetscFunctionReturn(0);
   }
 
@@ -111,7 +111,7 @@ private:
 
 RunView SimulationView(const Simulation *sim)
 {
-  const PetscReal dt = sim->dem ? sim->dem->par.dt : sim->fluid ? FluidGetStats(sim->fluid).dt : 0.0;
+  const PetscReal dt = sim->dem ? DemGetParams(sim->dem).dt : sim->fluid ? FluidGetStats(sim->fluid).dt : 0.0;
   return {sim->comm,           sim->domain,         sim->grids, sim->props, sim->swarm, sim->fluid,
           sim->run.output_dir, sim->output.restart, sim->step,  sim->time,  dt};
 }

@@ -175,7 +175,7 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   if (sim->swarm) PetscCall(ParticlesGlobalCount(sim->swarm, &count));
   if (cpl) PetscCall(CouplingCellSize(cpl, ch, cr));
   if (gas) PetscCall(FluidGetJetSlots(gas, &slots));
-  const bool planar = dim == 2 || (dem && dem->par.pseudo2d);
+  const bool planar = dim == 2 || (dem && DemGetParams(dem).pseudo2d);
 
   // ---- The table ----
   if (dem) {
@@ -202,7 +202,7 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   json.Bool("planar", planar);
 
   if (dem) {
-    const DemParams &p = dem->par;
+    const DemParams &p = DemGetParams(dem);
     // a tangential force is what turns a particle: friction and a tangential spring, between particles or at a wall
     const bool torque = (p.mu > 0 && p.kt > 0) || (p.wall_mu > 0 && p.wall_kt > 0);
     row("rotation",
@@ -261,7 +261,8 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
 
   if (cpl) {
     const PetscInt substeps = CouplingSubsteps(cpl);
-    row("gas step", Count(substeps, "DEM step") + Format(" = %.4g s", (double)(substeps * dem->par.dt)), given.Why({"-couple_substeps"}));
+    row("gas step", Count(substeps, "DEM step") + Format(" = %.4g s", (double)(substeps * DemGetParams(dem).dt)),
+        given.Why({"-couple_substeps"}));
     json.Integer("substeps", (long long)substeps);
   } else if (gas) {
     const PetscReal fixed = FluidFixedTimeStep(gas);
@@ -411,11 +412,12 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   }
 
   // A DEM step far below what the contacts need: t_cr / 10 resolves a contact; each halving doubles the steps.
-  if (dem && dem->par.dt_factor < kDtFactorLow)
+  if (dem && DemGetParams(dem).dt_factor < kDtFactorLow)
     warn(Format("-dem_dt_factor %g is far below what the contacts need (t_cr / 10, -dem_dt_factor %g, resolves a contact in about 10 "
                 "steps, the seed's choice): the run takes %.3g times the steps of -dem_dt_factor %g for the same time; use "
                 "-dem_dt_factor %g unless the finer step is the point of the run",
-                (double)dem->par.dt_factor, kDtFactorSeed, kDtFactorSeed / dem->par.dt_factor, kDtFactorSeed, kDtFactorSeed));
+                (double)DemGetParams(dem).dt_factor, kDtFactorSeed, kDtFactorSeed / DemGetParams(dem).dt_factor, kDtFactorSeed,
+                kDtFactorSeed));
 
   // A gas grid finer than its slits need: the narrowest slit over the cell width is the cells that resolve it.
   if (gas && !slots.empty()) {

@@ -44,7 +44,7 @@ PetscErrorCode DecompositionAddSummary(Simulation *sim, JsonWriter *json)
   PetscCallMPI(MPI_Comm_size(sim->comm, &size));
   if (sim->swarm) PetscCall(DMSwarmGetLocalSize(sim->swarm, &nlocal));
   mine[0] = nlocal;
-  mine[1] = sim->dem ? (PetscInt64)sim->dem->ghosts.n : 0;
+  mine[1] = sim->dem ? (PetscInt64)DemGhostCount(sim->dem) : 0;
   PetscCall(GridsLocalCells(sim->grids, &mine[2], &mine[3]));
   std::vector<PetscInt64> all(4 * (size_t)size);
   PetscCallMPI(MPI_Allgather(mine, 4, MPIU_INT64, all.data(), 4, MPIU_INT64, sim->comm));
@@ -86,18 +86,18 @@ PetscErrorCode WriteSummary(Simulation *sim)
   json.Integer("steps_this_run", (long long)sim->steps_run);
   json.Number("time", sim->time);
   if (sim->dem) {
-    json.Number("dt", sim->dem->par.dt);
-    json.Number("t_cr", sim->dem->par.t_cr);
-    json.Number("t_cr_wall", sim->dem->par.t_cr_wall);
+    json.Number("dt", DemGetParams(sim->dem).dt);
+    json.Number("t_cr", DemGetParams(sim->dem).t_cr);
+    json.Number("t_cr_wall", DemGetParams(sim->dem).t_cr_wall);
     json.Integer("particles", (long long)tot.count);
     json.Integer("particles_inserted", (long long)sim->inserted.count);
-    json.Integer("particles_outlet", (long long)sim->dem->stats.outlet_removed);
-    json.Integer("particles_lost", (long long)sim->dem->stats.lost.count); // through a wall or in migration (the escape guard)
+    json.Integer("particles_outlet", (long long)DemGetStats(sim->dem)->outlet_removed);
+    json.Integer("particles_lost", (long long)DemGetStats(sim->dem)->lost.count); // through a wall or in migration (the escape guard)
   }
   json.Integer("ranks", size);
   PetscCall(DecompositionAddSummary(sim, &json));
   if (sim->dem) {
-    json.Integer("neighbour_rebuilds", (long long)sim->dem->stats.rebuilds);
+    json.Integer("neighbour_rebuilds", (long long)DemGetStats(sim->dem)->rebuilds);
     json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
     json.Number("contacts_per_particle", tot.contacts_per_particle);
   }
@@ -174,7 +174,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       viewer, "Particles: %lld inserted, d = %.6g..%.6g mm, rho = %.6g kg/m^3, solid fraction of the insertion region %.3f\n",
       (long long)sim->inserted.count, 1e3 * sim->props.d_min, 1e3 * sim->props.d_max, (double)sim->props.density,
       (double)sim->inserted.solid_fraction_region));
-    PetscCall(DemParamsView(sim->dem->par, viewer));
+    PetscCall(DemParamsView(DemGetParams(sim->dem), viewer));
   }
   if (sim->coupling) {
     PetscCall(CouplingView(sim->coupling, viewer));
@@ -199,7 +199,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
           PetscPrintf(sim->comm,
                       "WARNING: the gas step %.6g s (DEM step %.6g s x -couple_substeps %d) exceeds the gas limit %.6g s at the start "
                       "(Courant number %.3g); the Courant guard stops the run if it stays above -guard_courant. To fit: %s\n",
-                      (double)dt_gas, (double)sim->dem->par.dt, (int)substeps, (double)dt_max,
+                      (double)dt_gas, (double)DemGetParams(sim->dem).dt, (int)substeps, (double)dt_max,
                       (double)(dt_gas / dt_max * FluidCfl(sim->fluid)), GuardsCourantRemedy(sim->guards, dt_max).c_str()));
       PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)substeps, (double)dt_gas));
     }
@@ -240,7 +240,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
 {
   Dem            *dem    = sim->dem;
   const PetscInt  sub    = sim->coupling ? CouplingSubsteps(sim->coupling) : 1; // DEM steps per gas step
-  const PetscReal dt_dem = dem ? dem->par.dt : 0.0;
+  const PetscReal dt_dem = dem ? DemGetParams(dem).dt : 0.0;
   // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
   // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.
   const PetscInt64 step_final    = dem ? StepAtTime(sim, sim->run.t_final) : PETSC_MAX_INT;
@@ -357,7 +357,7 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscCall(PetscPrintf(
       sim->comm,
       "Done: %lld steps, t = %.6g s, %lld particles (%lld left through the outlet), %.3f s wall, %.3g particle-steps/s per rank\n",
-      (long long)sim->step, (double)sim->time, (long long)sim->totals.count, (long long)dem->stats.outlet_removed, sim->wall_run,
+      (long long)sim->step, (double)sim->time, (long long)sim->totals.count, (long long)DemGetStats(dem)->outlet_removed, sim->wall_run,
       sim->wall_run > 0 ? (double)sim->totals.count * (double)sim->steps_run / sim->wall_run / size : 0.0));
   if (sim->fluid) {
     const FluidStats &fs = FluidGetStats(sim->fluid);

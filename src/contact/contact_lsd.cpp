@@ -8,7 +8,7 @@
 // evaluated sums its walls and contributions (dem.hpp, NeighbourList). The swarm's history slots are taken and
 // freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
 // the checkpoints written from them are unchanged too.
-#include "fluidbed/dem.hpp"
+#include "../particles/dem_impl.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
 #include "history_slots.hpp"

@@ -2,7 +2,7 @@
 // 2 r_max + skin), not the 3 d particle cells: each particle then tests about 40 candidates instead of ~350.
 // Lists are full (each pair appears for both particles) and sorted by partner id, which fixes the order in
 // which contact forces are summed (see dem.hpp).
-#include "fluidbed/dem.hpp"
+#include "../particles/dem_impl.hpp"
 
 #include "history_slots.hpp"
 

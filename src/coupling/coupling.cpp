@@ -303,7 +303,7 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   PetscCall(FluidGetGasProperties(fluid, &c->rho_g, &c->mu_g));
 
   // Buoyancy (Model B, eq. 2.1): the particles' gravity is (rho_p - rho_g) V_p g.
-  dem->body_force_factor = 1.0 - c->rho_g / dem->props->density;
+  DemSetBodyForceFactor(dem, 1.0 - c->rho_g / DemGetProps(dem).density);
 
   // The coupling grid: the particle cells, or the fluid cells.
   const ParticleGrid   &pg = grids.particle;
@@ -333,9 +333,8 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   PetscCall(VecZeroEntries(c->gas));
   PetscCall(VecStrideSet(c->gas, 0, 1.0)); // eps 1 and no gas motion until set
 
-  dem->external     = ParticleDrag;
-  dem->external_ctx = c;
-  *out              = c;
+  DemSetExternalForce(dem, ParticleDrag, c);
+  *out = c;
   PetscFunctionReturn(0);
 }
 
@@ -523,7 +522,7 @@ PetscErrorCode CouplingGasStep(Coupling *c, PetscReal *dt_gas, PetscReal *dt_max
   PetscFunctionBeginUser;
   PetscCheck(FluidFixedTimeStep(c->fluid) == 0, c->comm, PETSC_ERR_USER_INPUT,
              "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
-  *dt_gas = c->dem->par.dt * c->substeps;
+  *dt_gas = DemGetParams(c->dem).dt * c->substeps;
   PetscCall(FluidMaxTimeStep(c->fluid, dt_max));
   PetscFunctionReturn(0);
 }

@@ -106,8 +106,8 @@ GuardTrip NewTrip(GuardKind kind, PetscInt64 step, PetscReal time, PetscReal val
 
 std::string DtRemedy(const Dem *dem)
 {
-  return Format("a shorter DEM step, -dem_dt_factor below %.3g (dt = %.4g s = %.3g t_cr)", (double)dem->par.dt_factor, (double)dem->par.dt,
-                (double)(dem->par.dt / dem->par.t_cr));
+  return Format("a shorter DEM step, -dem_dt_factor below %.3g (dt = %.4g s = %.3g t_cr)", (double)DemGetParams(dem).dt_factor,
+                (double)DemGetParams(dem).dt, (double)(DemGetParams(dem).dt / DemGetParams(dem).t_cr));
 }
 
 PetscErrorCode TripNonFinite(Guards *g, PetscInt64 step, PetscReal time, const ParticleSite &site, const std::vector<PetscInt64> &ids)
@@ -139,7 +139,7 @@ PetscErrorCode TripNonFinite(Guards *g, PetscInt64 step, PetscReal time, const P
 
 PetscErrorCode TripEscape(Guards *g, PetscInt64 step, PetscReal time)
 {
-  const ParticleLoss &lost = g->dem->stats.lost;
+  const ParticleLoss &lost = DemGetStats(g->dem)->lost;
   GuardTrip           t    = NewTrip(GUARD_ESCAPE, step, time, (PetscReal)lost.count, 0);
 
   PetscFunctionBeginUser;
@@ -147,7 +147,7 @@ PetscErrorCode TripEscape(Guards *g, PetscInt64 step, PetscReal time)
     t.what   = Format("%lld particle(s) left the domain through a wall and were removed", (long long)lost.count);
     t.where  = Format("the first particle %lld at %s", (long long)lost.first_id, PositionMm(lost.first_x, g->dom->dim).c_str());
     t.remedy = Format("the contact with the wall was not resolved: %s, or stiffer walls, -wall_kn above %.4g N/m", DtRemedy(g->dem).c_str(),
-                      (double)g->dem->par.pw.kn);
+                      (double)DemGetParams(g->dem).pw.kn);
     t.particles.push_back(lost.first_id);
   } else {
     t.what   = Format("%lld particle(s) were lost in migration (a particle moved further than a neighbouring rank between rebuilds)",
@@ -171,7 +171,7 @@ PetscErrorCode TripOverlap(Guards *g, PetscInt64 step, PetscReal time, PetscReal
                    PositionMm(s.x, g->dom->dim).c_str(), (int)s.rank);
   t.remedy = Format("stiffer contacts, -dem_kn above %.4g N/m (the overlap of an impact at speed v is about v sqrt(m_eff / k_n)), or if "
                     "it grew within a few steps %s",
-                    (double)g->dem->par.pp.kn, DtRemedy(g->dem).c_str());
+                    (double)DemGetParams(g->dem).pp.kn, DtRemedy(g->dem).c_str());
   if (s.id >= 0) t.particles.push_back(s.id);
   if (s.partner >= 0) t.particles.push_back(s.partner);
   PetscCall(Report(g, std::move(t)));
@@ -240,14 +240,15 @@ std::string CourantRemedy(const Guards *g, PetscReal dt_max)
     const FluidStats &fs = FluidGetStats(g->fluid);
     return Format("a shorter gas step: -fluid_dt at most %.4g s (now %.4g s), or leave -fluid_dt unset", (double)dt_max, (double)fs.dt);
   }
-  const PetscReal dt       = g->dem->par.dt;
+  const PetscReal dt       = DemGetParams(g->dem).dt;
   const PetscInt  k        = (PetscInt)(dt_max / dt);
   const PetscInt  substeps = g->coupling ? CouplingSubsteps(g->coupling) : 1;
   if (substeps > 1 && k >= 1) return Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)substeps);
   return Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: -dem_dt_factor at "
                 "most %.3g (now %.3g), a coarser gas grid (-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is "
                 "held at the floor (-couple_eps_min) the gas speeds up through those cells: fix the grid first",
-                (double)dt, (double)dt_max, (int)substeps, (double)(g->dem->par.dt_factor * dt_max / dt), (double)g->dem->par.dt_factor);
+                (double)dt, (double)dt_max, (int)substeps, (double)(DemGetParams(g->dem).dt_factor * dt_max / dt),
+                (double)DemGetParams(g->dem).dt_factor);
 }
 
 } // namespace
@@ -302,7 +303,7 @@ PetscErrorCode TripVoidFraction(Guards *g, PetscInt64 step, PetscReal time, cons
   if (first[0] >= 0)
     t.where = g->dom->dim == 3 ? Format("first at coupling cell (%d, %d, %d)", (int)first[0], (int)first[1], (int)first[2])
                                : Format("first at coupling cell (%d, %d)", (int)first[0], (int)first[1]);
-  const PetscReal d = g->dem->props->d_max;
+  const PetscReal d = DemGetProps(g->dem).d_max;
   t.remedy =
     Format("the coupling cells are %.3g x %.3g%s particle diameters and hold too few particles for a smooth void fraction: "
            "cells of about 3 d or more, on two grids (-couple_grid two with -pgrid_ratio or -pgrid_cell_diameters) or a coarser gas grid",
@@ -392,15 +393,16 @@ PetscErrorCode GuardsCheckParticles(Guards *g, PetscInt64 step, PetscReal time, 
 
   PetscFunctionBeginUser;
   if (!g->opt.enable || !dem || g->stop) PetscFunctionReturn(0);
-  if (!force && !dem->stats.halted && step % g->opt.interval) PetscFunctionReturn(0);
+  if (!force && !DemGetStats(dem)->halted && step % g->opt.interval) PetscFunctionReturn(0);
   PetscCall(PhaseBegin(g->log, PHASE_GUARDS));
-  PetscReal loc[3] = {dem->stats.guard_overlap_rel, dem->stats.guard_step_rel, (dem->stats.nonfinite || dem->stats.halted) ? 1.0 : 0.0},
+  PetscReal loc[3] = {DemGetStats(dem)->guard_overlap_rel, DemGetStats(dem)->guard_step_rel,
+                      (DemGetStats(dem)->nonfinite || DemGetStats(dem)->halted) ? 1.0 : 0.0},
             glob[3];
   PetscCallMPI(MPI_Allreduce(loc, glob, 3, MPIU_REAL, MPI_MAX, g->comm));
-  dem->stats.guard_overlap_rel = 0;
-  dem->stats.guard_step_rel    = 0;
-  g->fig.overlap               = PetscMax(g->fig.overlap, glob[0]);
-  g->fig.displacement          = PetscMax(g->fig.displacement, glob[1]);
+  DemGetStats(dem)->guard_overlap_rel = 0;
+  DemGetStats(dem)->guard_step_rel    = 0;
+  g->fig.overlap                      = PetscMax(g->fig.overlap, glob[0]);
+  g->fig.displacement                 = PetscMax(g->fig.displacement, glob[1]);
   g->fig.checks++;
 
   // a NaN shows in the velocities the step integrated; the initial state (step 0) is scanned whole, forces included
@@ -412,11 +414,11 @@ PetscErrorCode GuardsCheckParticles(Guards *g, PetscInt64 step, PetscReal time, 
     nan = site.count > 0;
     if (nan) PetscCall(TripNonFinite(g, step, time, site, ids));
   }
-  if (dem->stats.lost.count > g->lost_seen) {
+  if (DemGetStats(dem)->lost.count > g->lost_seen) {
     PetscCall(TripEscape(g, step, time));
-    g->lost_seen = dem->stats.lost.count;
+    g->lost_seen = DemGetStats(dem)->lost.count;
   }
-  if (!dem->stats.halted) {
+  if (!DemGetStats(dem)->halted) {
     if (g->opt.overlap > 0 && glob[0] > g->opt.overlap) PetscCall(TripOverlap(g, step, time, glob[0]));
     if (g->opt.displacement > 0 && glob[1] > g->opt.displacement) PetscCall(TripDisplacement(g, step, time, glob[1]));
     if (!nan && g->closed && g->opt.energy_growth > 0 && (force || step % g->opt.energy_interval == 0)) {
@@ -545,7 +547,7 @@ PetscErrorCode GuardsAddSummary(const Guards *g, JsonWriter *json)
   seen.Number("eps_raw_min", g->fig.eps_raw_min);
   seen.Number("courant_max", g->fig.courant);
   seen.Integer("courant_longest_run", (long long)g->fig.courant_run);
-  seen.Integer("particles_lost", g->dem ? (long long)g->dem->stats.lost.count : 0);
+  seen.Integer("particles_lost", g->dem ? (long long)DemGetStats(g->dem)->lost.count : 0);
   seen.Integer("pressure_failures", g->fluid ? (long long)FluidGetStats(g->fluid).ksp_failures : 0);
   seen.Integer("checks", (long long)g->fig.checks);
   seen.Integer("energy_checks", (long long)g->fig.energy_checks);

@@ -12,14 +12,14 @@ PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
 {
   ParticleArrays p;
   PetscReal      loc[7] = {0, 0, 0, 0, 0, 0, 0}, glob[7], mx[2], gmx[2]; // KE, KE_rot, PE, momentum, contacts
-  const Domain  &dom    = *dem->dom;
-  MPI_Comm       comm   = PetscObjectComm((PetscObject)dem->swarm);
+  const Domain  &dom    = DemGetDomain(dem);
+  MPI_Comm       comm   = PetscObjectComm((PetscObject)DemGetSwarm(dem));
 
   PetscFunctionBeginUser;
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  PetscCall(ParticleArraysGet(DemGetSwarm(dem), &p));
   PetscReal vmax2 = 0;
   for (PetscInt i = 0; i < p.n; ++i) {
-    const PetscReal  m = dem->props->Mass(p.d[i]), I = kernels::sphere_inertia(m, p.d[i]);
+    const PetscReal  m = DemGetProps(dem).Mass(p.d[i]), I = kernels::sphere_inertia(m, p.d[i]);
     const PetscReal *v = &p.v[3 * i], *w = &p.w[3 * i];
     const PetscReal  v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     loc[0] += 0.5 * m * v2;
@@ -30,21 +30,21 @@ PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t)
     for (int a = 0; a < 3; ++a) loc[3 + a] += m * v[a];
     vmax2 = PetscMax(vmax2, v2);
   }
-  loc[6] = (PetscReal)dem->stats.contacts;
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  loc[6] = (PetscReal)DemGetStats(dem)->contacts;
+  PetscCall(ParticleArraysRestore(DemGetSwarm(dem), &p));
   PetscCallMPI(MPI_Allreduce(loc, glob, 7, MPIU_REAL, MPI_SUM, comm));
   mx[0] = PetscSqrtReal(vmax2);
-  mx[1] = dem->stats.max_overlap_rel;
+  mx[1] = DemGetStats(dem)->max_overlap_rel;
   PetscCallMPI(MPI_Allreduce(mx, gmx, 2, MPIU_REAL, MPI_MAX, comm));
-  PetscCall(ParticlesGlobalCount(dem->swarm, &t->count));
+  PetscCall(ParticlesGlobalCount(DemGetSwarm(dem), &t->count));
   t->ke_trans = glob[0];
   t->ke_rot   = glob[1];
   t->pe_grav  = glob[2];
   for (int a = 0; a < 3; ++a) t->momentum[a] = glob[3 + a];
-  t->contacts_per_particle   = t->count ? glob[6] / (PetscReal)t->count : 0.0;
-  t->max_speed               = gmx[0];
-  t->max_overlap_rel         = gmx[1];
-  dem->stats.max_overlap_rel = 0.0; // the next row reports the maximum over its own interval
+  t->contacts_per_particle          = t->count ? glob[6] / (PetscReal)t->count : 0.0;
+  t->max_speed                      = gmx[0];
+  t->max_overlap_rel                = gmx[1];
+  DemGetStats(dem)->max_overlap_rel = 0.0; // the next row reports the maximum over its own interval
   PetscFunctionReturn(0);
 }
 
@@ -136,7 +136,7 @@ PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
 
   PetscFunctionBeginUser;
   if (!nt || step % m->track_every) PetscFunctionReturn(0);
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  PetscCall(ParticleArraysGet(DemGetSwarm(dem), &p));
   for (PetscInt i = 0; i < p.n; ++i) {
     const auto it = std::find(m->track_ids.begin(), m->track_ids.end(), p.id[i]);
     if (it == m->track_ids.end()) continue;
@@ -149,7 +149,7 @@ PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step
       row[10 + a] = p.f[3 * i + a];
     }
   }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscCall(ParticleArraysRestore(DemGetSwarm(dem), &p));
   PetscCallMPI(MPI_Reduce(loc.data(), glob.data(), (int)loc.size(), MPIU_REAL, MPI_SUM, 0, comm));
   if (m->track.fp) {
     for (std::size_t k = 0; k < nt; ++k) {

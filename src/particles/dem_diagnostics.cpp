@@ -1,6 +1,6 @@
 // What the run-time guards (src/guards) ask of the particles when a limit is broken: which particle, where, on
 // which rank; and the mechanical energy of the system. Collective; run only at guard checks, never in the step.
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 

@@ -1,5 +1,5 @@
 // The DEM step: kick-drift, (rebuild: migrate, ghosts, lists), ghost refresh, contact forces, kick.
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 
 namespace fluidbed {
 
@@ -134,6 +134,44 @@ PetscErrorCode DemDestroy(Dem **dem)
   delete *dem;
   *dem = nullptr;
   PetscFunctionReturn(0);
+}
+
+const DemParams &DemGetParams(const Dem *dem)
+{
+  return dem->par;
+}
+const ParticleProps &DemGetProps(const Dem *dem)
+{
+  return *dem->props;
+}
+const Domain &DemGetDomain(const Dem *dem)
+{
+  return *dem->dom;
+}
+DM DemGetSwarm(const Dem *dem)
+{
+  return dem->swarm;
+}
+DemStats *DemGetStats(Dem *dem)
+{
+  return &dem->stats;
+}
+const DemStats &DemGetStats(const Dem *dem)
+{
+  return dem->stats;
+}
+PetscInt DemGhostCount(const Dem *dem)
+{
+  return dem->ghosts.n;
+}
+void DemSetExternalForce(Dem *dem, DemExternalForce force, void *ctx)
+{
+  dem->external     = force;
+  dem->external_ctx = ctx;
+}
+void DemSetBodyForceFactor(Dem *dem, PetscReal factor)
+{
+  dem->body_force_factor = factor;
 }
 
 } // namespace fluidbed

@@ -5,7 +5,7 @@
 // travel in a BASIC ghost swarm through DMSwarmMigrate, which sends each point to the rank in its DMSwarm_rank
 // field. The received ghosts know their owner's rank and index, which defines a PetscSF that refreshes their
 // state from the owners every step.
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 
 #include <vector>
 

@@ -1,6 +1,6 @@
 // Velocity-Verlet loops over the local particles (kernels/verlet.hpp) and the per-step packing of the contact
 // bodies with predicted velocities.
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 

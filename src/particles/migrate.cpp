@@ -2,7 +2,7 @@
 // those that left through the outlet or through a wall. In PETSc 3.18 DMSwarmMigrate deletes without a word
 // particles that left the domain or jumped past a neighbouring rank, so the global count is checked across every
 // migration; what is lost is counted in DemStats::lost, and the escape guard stops the run on it.
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 
 #include <algorithm>
 #include <cstdint>

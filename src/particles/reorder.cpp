@@ -2,7 +2,7 @@
 // rest in whatever order earlier migrations left; sorting the storage by neighbour bin at each rebuild keeps a
 // particle's neighbours close in memory, which the contact loop (dominated by loads of the partners' state)
 // needs once the bodies no longer fit in cache. Results do not depend on the order (dem.hpp).
-#include "fluidbed/dem.hpp"
+#include "dem_impl.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -23,7 +23,7 @@
 #include "component_common.hpp"
 
 #include "fluidbed/coupling.hpp"
-#include "fluidbed/dem.hpp"
+#include "../../src/particles/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/drag_laws.hpp"
 #include "fluidbed/fluid.hpp"

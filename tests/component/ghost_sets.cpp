@@ -16,7 +16,7 @@
 // code never disagree by a rounding. Prints one line per check and exits nonzero on the first failure.
 #include "component_common.hpp"
 
-#include "fluidbed/dem.hpp"
+#include "../../src/particles/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/particles.hpp"

@@ -8,7 +8,7 @@
 //   - each wall within r + skin is in the particle's wall list, and a listed wall is either that near or still
 //     holds a contact history.
 // Prints one line per check and exits nonzero on the first failure (the test driver runs it on 1, 2 and 4 ranks).
-#include "fluidbed/dem.hpp"
+#include "../../src/particles/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/kernels/periodic.hpp"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The layers of the source tree (docs/architecture.md): each module includes only its own headers and those of the
-modules below it, so that no include runs back up. Reads every #include "fluidbed/..." of include/ and src/; fails
+modules below it, so that no include runs back up, and a module's private headers in src/ only from its own files. Reads every #include "fluidbed/..." of include/ and src/; fails
 naming the file, the header and both modules when one runs up or sideways, or when a file or header belongs to no
 module (a new one must be placed in a layer here and in docs/architecture.md)."""
 import os
@@ -60,6 +60,12 @@ def main():
                 text = open(os.path.join(d, n)).read()
                 if mod == "kernels" and re.search(r"#include\s*<petsc", text):
                     errors.append("%s: a kernel includes PETSc (kernels are plain functions)" % rel)
+                # a module's private headers (src/<module>/*.hpp) are its own
+                for inc in re.findall(r'#include\s*"((?!fluidbed/)[^"]+\.hpp)"', text):
+                    target = os.path.relpath(os.path.normpath(os.path.join(d, inc)), SRC)
+                    tm = file_module(target)
+                    if tm != mod:
+                        errors.append("%s (%s) includes %s, a private header of %s" % (rel, mod, target, tm))
                 for inc in re.findall(r'#include\s*"fluidbed/([^"]+)"', text):
                     im = header_module(inc)
                     if im is None:

@@ -1,0 +1,121 @@
+// The DEM's own state, private to the particles and contact sources (src/particles, src/contact) and the component
+// tests of their pieces: the bodies of locals and ghosts, the neighbour lists with the contacts' histories between
+// rebuilds, the ghost exchange, and the pieces of the step.
+#pragma once
+
+#include "fluidbed/dem.hpp"
+
+#include <petscsf.h>
+
+#include <vector>
+
+namespace fluidbed {
+
+// A listed pair as the particle that evaluates it sees it: the smaller id of two local particles, or the local
+// one of a pair with a ghost. Between syncs (DemSyncPairHistory) the pair's history in the list
+// (NeighbourList::pair_hist) is the authoritative copy of that particle's history slot; the swarm's slots are
+// brought up to date before particles migrate or are written.
+struct ContactPair {
+  PetscInt  partner;      // body index
+  PetscInt  slot;         // the evaluating particle's history slot, -1 when not in contact
+  PetscInt  partner_slot; // a local partner's slot for the pair (its copy from the last sync), else -1
+  PetscInt  out;          // where the force loop leaves the pair's contribution (Dem::contributions)
+  PetscReal sqrt_meff;    // sqrt of the pair's effective mass, constant for the pair
+};
+// What one listed pair adds to its particle this step: the contact force, n x f_t (the torque is r n x f_t) and
+// the dashpot impulse correction, as seen from the evaluating particle; zero when the pair is apart.
+struct ContactContribution {
+  kernels::Vec3 force, n_cross_ft, impulse;
+};
+
+// A wall the particle may touch before the next rebuild (within r + skin of it at the rebuild, or holding a
+// history slot for it); its history is kept in the list as a pair's (NeighbourList::wall_hist).
+struct WallContact {
+  PetscInt face;
+  PetscInt slot; // the particle's history slot for the wall, -1 when not in contact
+};
+
+// Verlet neighbour list. Full: for each local particle, the bodies within r_i + r_j + skin sorted by id, each
+// entry naming where its pair's contribution is left (2 out: the pair is evaluated by this particle, 2 out + 1: by
+// the partner, and the contribution is mirrored). Half: the pairs each local particle evaluates, in the order of
+// its entries. Walls: the walls each local particle may touch, in face order. The force loop evaluates the
+// particles' pairs in storage order and sums each particle as soon as all its pairs are evaluated: after the
+// pairs of particle i, the particles finish[finish_start[i]] .. finish[finish_start[i + 1] - 1]. Most
+// contributions are read soon after they are written, so they share a ring of kContributionRing places, which
+// stays in cache; the pairs whose contributions are read later than that have places of their own after it.
+constexpr PetscInt kContributionRing = 8192; // a power of 2
+struct NeighbourList {
+  std::vector<PetscInt>    start;      // nlocal + 1 offsets into entries
+  std::vector<PetscInt>    entries;    // 2 out + (1 if the partner evaluates the pair)
+  std::vector<PetscInt>    pair_start; // nlocal + 1 offsets into pairs
+  std::vector<ContactPair> pairs;
+  std::vector<PetscInt>    wall_start; // nlocal + 1 offsets into walls
+  std::vector<WallContact> walls;
+  std::vector<PetscInt>    finish_start; // nlocal + 1 offsets into finish
+  std::vector<PetscInt>    finish;
+  PetscInt                 ncontrib = 0; // places for contributions: the ring, then those of their own
+  // The histories of the listed contacts, the contact model's history_size reals per pair and per wall contact
+  // (meaningful while its slot >= 0), in the order of pairs and walls.
+  PetscInt               hs = 0;
+  std::vector<PetscReal> pair_hist, wall_hist;
+  PetscReal             *PairHistory(PetscInt q) { return &pair_hist[(std::size_t)(hs * q)]; }
+  PetscReal             *WallHistory(PetscInt k) { return &wall_hist[(std::size_t)(hs * k)]; }
+  const PetscReal       *PairHistory(PetscInt q) const { return &pair_hist[(std::size_t)(hs * q)]; }
+  const PetscReal       *WallHistory(PetscInt k) const { return &wall_hist[(std::size_t)(hs * k)]; }
+};
+
+// Ghost particles of the 26 (3D) or 8 (2D) neighbouring subdomains, periodic images included. Built at each
+// rebuild by sending copies through a BASIC ghost swarm with DMSwarmMigrate; refreshed every step through a
+// PetscSF from the owners' bodies.
+struct GhostExchange {
+  DM                      swarm = nullptr;
+  PetscSF                 sf    = nullptr;
+  MPI_Datatype            body_type{};
+  PetscInt                n = 0;
+  std::vector<PetscInt64> id;    // ghost ids
+  std::vector<PetscReal>  shift; // 3 per ghost: periodic image offset applied for binning
+};
+
+struct Dem {
+  DemParams            par;
+  ContactModel         contact; // the model -dem_contact_model names
+  const Domain        *dom   = nullptr;
+  const ParticleGrid  *pgrid = nullptr;
+  const ParticleProps *props = nullptr;
+  PhaseLog            *log   = nullptr;
+  DM                   swarm = nullptr;
+
+  PetscReal                        halo              = 0;   // ghost layer width, 2 r_max + skin (m)
+  PetscReal                        skin              = 0;   // m
+  PetscReal                        body_force_factor = 1.0; // gravity scale: 1 - rho_g / rho_p with buoyancy (Model B)
+  std::vector<ContactBody>         bodies;
+  std::vector<PetscInt64>          body_id;
+  std::vector<PetscReal>           x_ref;   // positions at the last rebuild, 3 per local particle
+  std::vector<PetscReal>           impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
+  NeighbourList                    nl;
+  std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); zero when the pair is apart
+  GhostExchange                    ghosts;
+  DemStats                         stats;
+  DemExternalForce                 external     = nullptr;
+  void                            *external_ctx = nullptr;
+};
+
+// Pieces of the step (src/particles, src/contact), exposed for tests and the coupled solver.
+PetscErrorCode DemMigrate(Dem *dem);
+PetscErrorCode DemSortLocal(Dem *dem);                                         // orders the local particles' storage by neighbour bin
+PetscErrorCode ParticlesPermute(DM swarm, const std::vector<PetscInt> &order); // new[k] = old[order[k]], every field
+PetscErrorCode DemPackBodies(Dem *dem);
+PetscErrorCode DemGhostsBuild(Dem *dem);
+PetscErrorCode DemGhostsUpdate(Dem *dem);
+PetscErrorCode DemGhostsDestroy(GhostExchange *gx);
+PetscErrorCode DemNeighbourBuild(Dem *dem);
+// The contact model's forces (ContactModel::forces), then the external forces (drag).
+PetscErrorCode DemContactForces(Dem *dem);
+// Between rebuilds a pair's history is kept in the neighbour list (nl.pair_hist) from the evaluating side; this stores
+// it in that particle's swarm slot and (negated) in a local partner's. Called before particles migrate and before
+// a checkpoint.
+PetscErrorCode DemSyncPairHistory(Dem *dem);
+PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild);
+PetscErrorCode DemKick(Dem *dem);
+
+} // namespace fluidbed
