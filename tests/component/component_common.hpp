@@ -1,8 +1,9 @@
-// Helpers shared by the component tests: a gather of every rank's entries, a collective check that prints one line
-// and stops the test on failure, and a portable pseudo-random sequence (the same numbers on every rank, compiler and
+// Helpers shared by the component tests: a gather of every rank's entries, a DMDA vector gathered in natural ordering, a collective check
+// that prints one line and stops the test on failure, and a portable pseudo-random sequence (the same numbers on every rank, compiler and
 // library, unlike the standard distributions).
 #pragma once
 
+#include <petscdmda.h>
 #include <petscsys.h>
 
 #include <cstdint>
@@ -25,6 +26,31 @@ PetscErrorCode AllGather(MPI_Comm comm, MPI_Datatype type, const std::vector<T> 
   all->resize((std::size_t)(displs.back() + counts.back()));
   PetscCallMPI(MPI_Allgatherv(mine.data(), n, type, all->data(), counts.data(), displs.data(), type, comm));
   if (counts_out) *counts_out = counts;
+  PetscFunctionReturn(0);
+}
+
+// A DMDA global vector in natural ordering (x fastest, dof interleaved), on every rank.
+inline PetscErrorCode GatherNatural(DM da, Vec g, std::vector<PetscReal> *out)
+{
+  Vec                nat, all;
+  VecScatter         sc;
+  const PetscScalar *a;
+  PetscInt           n;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDACreateNaturalVector(da, &nat));
+  PetscCall(DMDAGlobalToNaturalBegin(da, g, INSERT_VALUES, nat));
+  PetscCall(DMDAGlobalToNaturalEnd(da, g, INSERT_VALUES, nat));
+  PetscCall(VecScatterCreateToAll(nat, &sc, &all));
+  PetscCall(VecScatterBegin(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetLocalSize(all, &n));
+  PetscCall(VecGetArrayRead(all, &a));
+  out->assign(a, a + n);
+  PetscCall(VecRestoreArrayRead(all, &a));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(VecDestroy(&all));
+  PetscCall(VecDestroy(&nat));
   PetscFunctionReturn(0);
 }
 

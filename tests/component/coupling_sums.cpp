@@ -21,6 +21,7 @@
 // The checks run after the set-up, after -steps DEM steps without a list rebuild (so that particles have left their
 // rank's cells), and for the shuffled storage. Prints one line per check and exits nonzero on the first failure.
 #include "component_common.hpp"
+#include "dem_scene.hpp"
 
 #include "fluidbed/coupling.hpp"
 #include "../../src/particles/dem_impl.hpp"
@@ -41,53 +42,22 @@
 using namespace fluidbed;
 using component::AllGather;
 using component::Check;
+using component::GatherNatural;
 using kernels::Vec3;
 
 static const char help[] = "Coupling cell sums against a brute-force serial sum (-steps N DEM steps before the second check)\n";
 
 namespace {
 
-struct Setup {
-  MPI_Comm      comm;
-  Domain        dom;
-  ParticleProps props;
-  Grids         grids;
-  PhaseLog      log;
-  Dem          *dem      = nullptr;
-  DM            swarm    = nullptr;
-  Fluid        *fluid    = nullptr;
-  Coupling     *coupling = nullptr;
-  PetscReal     h[3]{1, 1, 1};     // coupling cell size
-  PetscInt      ratio[3]{1, 1, 1}; // fluid cells per coupling cell
-  PetscInt      n[3]{1, 1, 1};     // coupling cells
-  PetscBool     divide_eps = PETSC_TRUE;
-  DragLaw       law;
+struct Setup : component::DemScene {
+  Fluid    *fluid    = nullptr;
+  Coupling *coupling = nullptr;
+  PetscReal h[3]{1, 1, 1};     // coupling cell size
+  PetscInt  ratio[3]{1, 1, 1}; // fluid cells per coupling cell
+  PetscInt  n[3]{1, 1, 1};     // coupling cells
+  PetscBool divide_eps = PETSC_TRUE;
+  DragLaw   law;
 };
-
-// A DMDA global vector in natural ordering (x fastest, dof interleaved), on every rank.
-PetscErrorCode GatherNatural(DM da, Vec g, std::vector<PetscReal> *out)
-{
-  Vec                nat, all;
-  VecScatter         sc;
-  const PetscScalar *a;
-  PetscInt           n;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDACreateNaturalVector(da, &nat));
-  PetscCall(DMDAGlobalToNaturalBegin(da, g, INSERT_VALUES, nat));
-  PetscCall(DMDAGlobalToNaturalEnd(da, g, INSERT_VALUES, nat));
-  PetscCall(VecScatterCreateToAll(nat, &sc, &all));
-  PetscCall(VecScatterBegin(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGetLocalSize(all, &n));
-  PetscCall(VecGetArrayRead(all, &a));
-  out->assign(a, a + n);
-  PetscCall(VecRestoreArrayRead(all, &a));
-  PetscCall(VecScatterDestroy(&sc));
-  PetscCall(VecDestroy(&all));
-  PetscCall(VecDestroy(&nat));
-  PetscFunctionReturn(0);
-}
 
 // One particle as the last deposit saw it.
 struct Deposited {
@@ -350,12 +320,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-steps", &steps, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-shuffle_seed", &seed, NULL));
   PetscCall(PetscOptionsGetBool(NULL, NULL, "-couple_drag_model_b", &s.divide_eps, NULL));
-  PetscCall(PhaseLogRegister(&s.log));
-  PetscCall(DomainSetFromOptions(s.comm, &s.dom));
-  PetscCall(ParticlePropsSetFromOptions(s.comm, s.dom, &s.props));
-  PetscCall(GridsCreate(s.comm, s.dom, s.props.d_max, &s.grids));
-  PetscCall(DemCreate(s.comm, s.dom, s.grids.particle, s.props, &s.log, &s.dem));
-  PetscCall(DemCreateSwarm(s.dem, &s.swarm));
+  PetscCall(component::DemSceneCreate(PETSC_COMM_WORLD, &s));
   PetscCall(FluidCreate(s.comm, s.dom, s.grids.fluid, &s.log, &s.fluid));
   PetscCall(FluidSetUp(s.fluid));
   PetscCall(CouplingCreate(s.comm, s.dom, s.grids, s.dem, s.fluid, &s.log, &s.coupling));
@@ -425,9 +390,7 @@ int main(int argc, char **argv)
 
   PetscCall(CouplingDestroy(&s.coupling));
   PetscCall(FluidDestroy(&s.fluid));
-  PetscCall(DMDestroy(&s.swarm));
-  PetscCall(DemDestroy(&s.dem));
-  PetscCall(GridsDestroy(&s.grids));
+  PetscCall(component::DemSceneDestroy(&s));
   PetscCall(PetscFinalize());
   return 0;
 }

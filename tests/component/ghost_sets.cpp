@@ -15,6 +15,7 @@
 // Positions within 1e-9 of the domain size of a face or a face +- h are redrawn, so that the brute force and the
 // code never disagree by a rounding. Prints one line per check and exits nonzero on the first failure.
 #include "component_common.hpp"
+#include "dem_scene.hpp"
 
 #include "../../src/particles/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
@@ -326,27 +327,21 @@ PetscErrorCode ChangeBodies(Dem *dem)
 
 int main(int argc, char **argv)
 {
-  MPI_Comm      comm;
-  Domain        dom;
-  ParticleProps props;
-  Grids         grids;
-  PhaseLog      log;
-  Dem          *dem   = nullptr;
-  DM            swarm = nullptr;
-  PetscInt      count = 1000, seed = 5;
-  PetscInt64    before, after;
+  component::DemScene sc;
+  PetscInt            count = 1000, seed = 5;
+  PetscInt64          before, after;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
-  comm = PETSC_COMM_WORLD;
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-count", &count, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-seed", &seed, NULL));
-  PetscCall(PhaseLogRegister(&log));
-  PetscCall(DomainSetFromOptions(comm, &dom));
-  PetscCall(ParticlePropsSetFromOptions(comm, dom, &props));
-  PetscCall(GridsCreate(comm, dom, props.d_max, &grids));
-  PetscCall(DemCreate(comm, dom, grids.particle, props, &log, &dem));
-  PetscCall(DemCreateSwarm(dem, &swarm));
-  dem->swarm = swarm;
+  PetscCall(component::DemSceneCreate(PETSC_COMM_WORLD, &sc));
+  const MPI_Comm       comm  = sc.comm;
+  const Domain        &dom   = sc.dom;
+  const Grids         &grids = sc.grids;
+  const ParticleProps &props = sc.props;
+  Dem                 *dem   = sc.dem;
+  DM                   swarm = sc.swarm;
+  dem->swarm                 = swarm;
   PetscCall(PlaceParticles(dom, grids.particle, props, dem->halo, count, seed, swarm));
 
   // the rebuild's pieces up to the ghosts (DemRebuild without the history sync and the neighbour lists)
@@ -370,9 +365,7 @@ int main(int argc, char **argv)
     PetscCall(CheckRefresh(comm, *dem, ids));
   }
 
-  PetscCall(DMDestroy(&swarm));
-  PetscCall(DemDestroy(&dem));
-  PetscCall(GridsDestroy(&grids));
+  PetscCall(component::DemSceneDestroy(&sc));
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -9,6 +9,8 @@
 //     holds a contact history.
 // Prints one line per check and exits nonzero on the first failure (the test driver runs it on 1, 2 and 4 ranks).
 #include "../../src/particles/dem_impl.hpp"
+#include "component_common.hpp"
+#include "dem_scene.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/kernels/periodic.hpp"
@@ -21,6 +23,8 @@
 #include <vector>
 
 using namespace fluidbed;
+using component::AllGather;
+using component::Check;
 
 static const char help[] = "Neighbour lists and ghosts against a brute-force search (-steps N: DEM steps before the check)\n";
 
@@ -30,22 +34,6 @@ struct Body {
   PetscInt64 id;
   PetscReal  x[3], r;
 };
-
-// Every rank's entries of mine, in rank order, on every rank.
-template <class T>
-PetscErrorCode AllGather(MPI_Comm comm, MPI_Datatype type, const std::vector<T> &mine, std::vector<T> *all)
-{
-  PetscMPIInt size;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscMPIInt              n = (PetscMPIInt)mine.size();
-  std::vector<PetscMPIInt> counts((std::size_t)size), displs((std::size_t)size, 0);
-  PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
-  for (PetscMPIInt r = 1; r < size; ++r) displs[(std::size_t)r] = displs[(std::size_t)r - 1] + counts[(std::size_t)r - 1];
-  all->resize((std::size_t)(displs.back() + counts.back()));
-  PetscCallMPI(MPI_Allgatherv(mine.data(), n, type, all->data(), counts.data(), displs.data(), type, comm));
-  PetscFunctionReturn(0);
-}
 
 // Every rank's local bodies, on every rank.
 PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std::vector<Body> *all)
@@ -60,16 +48,6 @@ PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std:
   all->clear();
   for (std::size_t k = 0; k < flat.size(); k += 5)
     all->push_back({(PetscInt64)flat[k], {flat[k + 1], flat[k + 2], flat[k + 3]}, flat[k + 4]});
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode Check(MPI_Comm comm, bool ok, const char *what, long long detail)
-{
-  PetscFunctionBeginUser;
-  int bad = ok ? 0 : 1, any = 0;
-  PetscCallMPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm));
-  PetscCall(PetscPrintf(comm, "%s: %s (%lld)\n", any ? "FAIL" : "ok", what, detail));
-  PetscCheck(!any, comm, PETSC_ERR_PLIB, "neighbour-list check failed: %s", what);
   PetscFunctionReturn(0);
 }
 
@@ -182,35 +160,23 @@ PetscErrorCode CheckLists(MPI_Comm comm, const Domain &dom, Dem &dem)
 
 int main(int argc, char **argv)
 {
-  MPI_Comm        comm;
-  Domain          dom;
-  ParticleProps   props;
-  Grids           grids;
-  PhaseLog        log;
-  Dem            *dem   = nullptr;
-  DM              swarm = nullptr;
-  InsertionReport inserted;
-  PetscInt        steps = 50;
+  component::DemScene sc;
+  InsertionReport     inserted;
+  PetscInt            steps = 50;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
-  comm = PETSC_COMM_WORLD;
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-steps", &steps, NULL));
-  PetscCall(PhaseLogRegister(&log));
-  PetscCall(DomainSetFromOptions(comm, &dom));
-  PetscCall(ParticlePropsSetFromOptions(comm, dom, &props));
-  PetscCall(GridsCreate(comm, dom, props.d_max, &grids));
-  PetscCall(DemCreate(comm, dom, grids.particle, props, &log, &dem));
-  PetscCall(DemCreateSwarm(dem, &swarm));
-  PetscCall(ParticlesInsert(comm, dom, grids.particle, props, swarm, &inserted));
-  PetscCall(DemSetUp(dem, swarm, PETSC_FALSE));
-  PetscCall(CheckLists(comm, dom, *dem)); // the lists of the insertion
+  PetscCall(component::DemSceneCreate(PETSC_COMM_WORLD, &sc));
+  const MPI_Comm comm = sc.comm;
+  Dem           *dem  = sc.dem;
+  PetscCall(ParticlesInsert(comm, sc.dom, sc.grids.particle, sc.props, sc.swarm, &inserted));
+  PetscCall(DemSetUp(dem, sc.swarm, PETSC_FALSE));
+  PetscCall(CheckLists(comm, sc.dom, *dem)); // the lists of the insertion
   for (PetscInt s = 0; s < steps; ++s) PetscCall(DemStep(dem));
   PetscCall(DemRebuild(dem));
   PetscCall(PetscPrintf(comm, "after %d steps and a rebuild (%lld rebuilds in all):\n", (int)steps, (long long)dem->stats.rebuilds));
-  PetscCall(CheckLists(comm, dom, *dem));
-  PetscCall(DMDestroy(&swarm));
-  PetscCall(DemDestroy(&dem));
-  PetscCall(GridsDestroy(&grids));
+  PetscCall(CheckLists(comm, sc.dom, *dem));
+  PetscCall(component::DemSceneDestroy(&sc));
   PetscCall(PetscFinalize());
   return 0;
 }

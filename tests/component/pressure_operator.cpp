@@ -29,35 +29,11 @@
 
 using namespace fluidbed;
 using component::Check;
+using component::GatherNatural;
 
 static const char help[] = "Pressure operator against a hand-built one (-drag: with an implicit drag; -dt step; -field_seed S)\n";
 
 namespace {
-
-// A DMDA global vector in natural ordering, on every rank.
-PetscErrorCode GatherNatural(DM da, Vec g, std::vector<PetscReal> *out)
-{
-  Vec                nat, all;
-  VecScatter         sc;
-  const PetscScalar *a;
-  PetscInt           n;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDACreateNaturalVector(da, &nat));
-  PetscCall(DMDAGlobalToNaturalBegin(da, g, INSERT_VALUES, nat));
-  PetscCall(DMDAGlobalToNaturalEnd(da, g, INSERT_VALUES, nat));
-  PetscCall(VecScatterCreateToAll(nat, &sc, &all));
-  PetscCall(VecScatterBegin(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, nat, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGetLocalSize(all, &n));
-  PetscCall(VecGetArrayRead(all, &a));
-  out->assign(a, a + n);
-  PetscCall(VecRestoreArrayRead(all, &a));
-  PetscCall(VecScatterDestroy(&sc));
-  PetscCall(VecDestroy(&all));
-  PetscCall(VecDestroy(&nat));
-  PetscFunctionReturn(0);
-}
 
 // The operator as a dense N x N array in natural ordering (row-major), on every rank: column j is A e_j.
 PetscErrorCode ExtractDense(Mat A, DM da, PetscInt N, std::vector<PetscReal> *D)
