@@ -253,17 +253,19 @@ int WhyWriteFailed(const std::string &file, long long bytes)
 }
 
 // After a failed write on a single rank: closes what PETSc left open in the file, then the file, so that HDF5's
-// own clean-up at MPI_Finalize does not meet a half-closed file.
-void CloseAfterFailure(PetscViewer viewer)
+// own clean-up at MPI_Finalize does not meet a half-closed file. False when the file would not close (its last
+// flush failed too, as when the file-size limit is reached inside HDF5): HDF5 keeps it open and its clean-up at
+// MPI_Finalize would crash on it.
+bool CloseAfterFailure(PetscViewer viewer)
 {
   hid_t file;
-  if (PetscViewerHDF5GetFileId(viewer, &file) || file < 0) return;
+  if (PetscViewerHDF5GetFileId(viewer, &file) || file < 0) return true;
   const unsigned     types = H5F_OBJ_DATASET | H5F_OBJ_GROUP | H5F_OBJ_DATATYPE | H5F_OBJ_ATTR | H5F_OBJ_LOCAL;
   const ssize_t      n     = H5Fget_obj_count(file, types);
   std::vector<hid_t> ids(n > 0 ? (std::size_t)n : 0);
   if (n > 0 && H5Fget_obj_ids(file, types, ids.size(), ids.data()) >= 0)
     for (hid_t id : ids) H5Iget_type(id) == H5I_ATTR ? H5Aclose(id) : H5Oclose(id);
-  H5Fclose(file);
+  return H5Fclose(file) >= 0;
 }
 
 } // namespace
@@ -397,16 +399,18 @@ PetscErrorCode WriteHDF5File(MPI_Comm comm, const std::string &path, PetscInt64 
   PetscErrorCode ierr = PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, &viewer);
   if (!ierr) ierr = write(viewer);
   if (!ierr) ierr = PetscViewerDestroy(&viewer);
-  if (ierr && viewer && size == 1) CloseAfterFailure(viewer);
+  bool closed = true;
+  if (ierr && viewer && size == 1) closed = CloseAfterFailure(viewer);
   PetscCall(PetscPopErrorHandler());
   PetscCheck(H5Eset_auto2(H5E_DEFAULT, h5_report, h5_data) >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "H5Eset_auto2 failed");
   if (ierr) {
     const int         found = WhyWriteFailed(tmp, bytes);
     const std::string why   = found ? strerror(found) : "HDF5: " + caught.message;
     unlink(tmp.c_str());
-    if (size > 1) {
-      // The other ranks may be waiting inside a collective HDF5 call that this rank left: only ending the job can
-      // release them. The previous file of this name is untouched.
+    if (size > 1 || !closed) {
+      // The other ranks may be waiting inside a collective HDF5 call that this rank left, or HDF5 holds a file it
+      // cannot close and would crash on at MPI_Finalize: only ending the job now can release them. The previous
+      // file of this name is untouched.
       fprintf(stderr, "fluidbed: error: cannot write %s (%s)\n", path.c_str(), why.c_str());
       fflush(stderr);
       MPI_Abort(comm, EXIT_OUTPUT);
