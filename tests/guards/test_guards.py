@@ -61,8 +61,8 @@ def paraview(out):
         t.fail("pvbatch and xvfb-run are needed (scripts/test.sh installs paraview, python3-paraview, xvfb and xauth)")
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_diagnostic.py")
     result = os.path.join(out, "paraview.json")
-    # displays from 199 on: the ParaView output test takes them from 99 (xvfb-run -a), and both may run at once
-    subprocess.run([xvfb, "-a", "-n", "199", pvbatch, script, os.path.join(out, "guard_failure.xmf"), result], capture_output=True, timeout=300)
+    # a display of this process's own range (the ParaView output test uses 100-499; see tests/io/test_paraview.py)
+    subprocess.run([xvfb, "-a", "-n", str(500 + os.getpid() % 400), pvbatch, script, os.path.join(out, "guard_failure.xmf"), result], capture_output=True, timeout=300)
     if not os.path.isfile(result):
         t.fail("pvbatch could not open %s/guard_failure.xmf" % out)
     return json.load(open(result))

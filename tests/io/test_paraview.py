@@ -76,9 +76,10 @@ for label, opts, args, dim in scenes:
     # ParaView
     report, picture = os.path.join(out, "paraview.json"), os.path.join(out, "particles_over_void_fraction.png")
     start = time.time()
-    # xvfb-run -a takes the first free display from -n on; the guards test starts from another number, so that two
-    # tests started together do not both claim the same display
-    p = subprocess.run([XVFB, "-a", "-n", "99", PVBATCH, CHECK, out, report, picture, "--box=" + ",".join("%.17g" % v for v in box)], capture_output=True, text=True,
+    # xvfb-run -a takes the first display from -n on that has no lock file. Start from one of this process's own
+    # (the guards test uses another range), so that two tests started together, or a server left running without its
+    # lock file by an earlier run, do not make pvbatch meet a server that is not its own ("bad X server connection")
+    p = subprocess.run([XVFB, "-a", "-n", str(100 + os.getpid() % 400), PVBATCH, CHECK, out, report, picture, "--box=" + ",".join("%.17g" % v for v in box)], capture_output=True, text=True,
                        timeout=300)
     pv_s = time.time() - start
     text = p.stdout + p.stderr
