@@ -91,10 +91,7 @@ def packed_error(out, k):
     late = mon["time"] >= mon["time"][-1] - 0.1
     series = mon["p_y5mm_avg"][late] - mon["p_y18_33mm_avg"][late] - umf_sweep.RHO_G * umf_sweep.G * 4 * h
     dp = series.mean()
-    ergun = 0.0
-    for j, weight in ((1, 0.5), (2, 1), (3, 1), (4, 1), (5, 0.5)):
-        n = np.sum((p["y"] >= j * h) & (p["y"] < (j + 1) * h))
-        ergun += weight * h * umf_sweep.ergun_gradient(1 - n * vp / (area * h), 0.15)
+    ergun = reference.ergun_layers(p["y"], h, 1, 5, vp, area, lambda eps: umf_sweep.ergun_gradient(eps, 0.15))
     return abs(dp / ergun - 1), batch_error(series) / ergun
 
 

@@ -129,6 +129,20 @@ def ergun_gradient(eps, u, d, mu, rho_g):
     return 150 * (1 - eps) ** 2 * mu * u / (eps ** 3 * d * d) + 1.75 * (1 - eps) * rho_g * u * u / (eps ** 3 * d)
 
 
+def ergun_layers(y, layer, first, last, particle_volume, area, gradient):
+    """Ergun's pressure drop between the centres of layers first and last of a packed bed, applied layer by layer to
+    the voidage each layer has (particle centres y counted in the layer that holds them, as the coupling does; the
+    two end layers count half): the sum of weight * layer * gradient(eps of the layer). gradient(eps) is the Ergun
+    gradient (ergun_gradient at the bed's velocity and gas)."""
+    import numpy as np
+    total = 0.0
+    for j in range(first, last + 1):
+        weight = 0.5 if j in (first, last) else 1.0
+        n = np.sum((y >= j * layer) & (y < (j + 1) * layer))
+        total += weight * layer * gradient(1 - n * particle_volume / (area * layer))
+    return total
+
+
 def ergun_umf(eps, d, rho_p, rho_g, mu, g):
     """Minimum fluidization velocity by Ergun: the superficial velocity at which ergun_gradient carries the bed's
     buoyant weight, (1 - eps)(rho_p - rho_g) g, for spheres of diameter d: the root of a quadratic."""

@@ -39,10 +39,7 @@ mon = t.table(os.path.join(packed, "monitor.csv"))
 p = t.table(os.path.join(packed, "particles.csv"))
 U = 0.15
 dp_meas = mon["p_y5mm_avg"][-1] - mon["p_y18_33mm_avg"][-1] - rho_g * g * 4 * h  # between the centres of layers 1 and 5
-dp_ergun = 0.0
-for j, weight in ((1, 0.5), (2, 1), (3, 1), (4, 1), (5, 0.5)):
-    n = np.sum((p["y"] >= j * h) & (p["y"] < (j + 1) * h))
-    dp_ergun += weight * h * ergun_gradient(1 - n * Vp / (A * h), U)
+dp_ergun = reference.ergun_layers(p["y"], h, 1, 5, Vp, A, lambda eps: ergun_gradient(eps, U))
 n = np.sum((p["y"] >= 1.5 * h) & (p["y"] < 5.5 * h))
 eps_mean = 1 - n * Vp / (A * 4 * h)
 print("packed bed: voidage between the probes %.4f; Ergun at that mean voidage %.3f Pa" % (eps_mean, ergun_gradient(eps_mean, U) * 4 * h))
