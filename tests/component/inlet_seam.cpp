@@ -7,6 +7,7 @@
 //   - the uniform outlet carries out what came in: the top faces' flux sums to the inflow within 1e-12 relative.
 // Prints one line per check and exits nonzero on the first failure.
 #include "component_common.hpp"
+#include "gas_scene.hpp"
 
 #include "../../src/fluid/fluid_impl.hpp"
 #include "fluidbed/domain.hpp"
@@ -77,31 +78,22 @@ PetscErrorCode CheckFaces(Fluid *f, const char *when)
 
 int main(int argc, char **argv)
 {
-  MPI_Comm  comm;
-  Domain    dom;
-  Grids     grids;
-  PhaseLog  log;
-  Fluid    *fluid = nullptr;
-  PetscInt  n = 2, steps = 3;
-  PetscReal dt;
+  component::GasScene sc;
+  PetscInt            n = 2, steps = 3;
+  PetscReal           dt;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
-  comm = PETSC_COMM_WORLD;
   PetscCall(PetscOptionsGetIntArray(NULL, NULL, "-orifice_cell", orifice_cell, &n, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-orifice_velocity", &orifice_velocity, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-steps", &steps, NULL));
   PetscCall(InletRegister("orifice", InletCreateOrifice)); // the seam: one function and one registration
-  PetscCall(PhaseLogRegister(&log));
-  PetscCall(DomainSetFromOptions(comm, &dom));
-  PetscCall(GridsCreate(comm, dom, 0.0, &grids));
-  PetscCall(FluidCreate(comm, dom, grids.fluid, &log, &fluid));
-  PetscCall(FluidSetUp(fluid));
+  PetscCall(component::GasSceneCreate(PETSC_COMM_WORLD, &sc));
+  Fluid *fluid = sc.fluid;
   PetscCall(CheckFaces(fluid, "after the set-up"));
   PetscCall(FluidMaxTimeStep(fluid, &dt));
   for (PetscInt s = 0; s < steps; ++s) PetscCall(FluidStep(fluid, dt));
   PetscCall(CheckFaces(fluid, "after the gas steps"));
-  PetscCall(FluidDestroy(&fluid));
-  PetscCall(GridsDestroy(&grids));
+  PetscCall(component::GasSceneDestroy(&sc));
   PetscCall(PetscFinalize());
   return 0;
 }

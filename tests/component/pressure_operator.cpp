@@ -14,6 +14,7 @@
 // |entry - hand-built| <= 1e-12 |diagonal of the row|. Prints one line per check and exits nonzero on the first
 // failure.
 #include "component_common.hpp"
+#include "gas_scene.hpp"
 
 #include "fluidbed/dmda_field.hpp"
 #include "fluidbed/domain.hpp"
@@ -156,14 +157,10 @@ PetscErrorCode SetByNaturalIndex(DM da, Vec v, const PetscInt n[3], Fn &&value)
 
 int main(int argc, char **argv)
 {
-  MPI_Comm               comm;
-  Domain                 dom;
-  Grids                  grids;
-  PhaseLog               log;
-  Fluid                 *fluid = nullptr;
-  PetscBool              drag  = PETSC_FALSE;
-  PetscReal              dt    = 1e-3, mu;
-  PetscInt               seed  = 7;
+  component::GasScene    sc;
+  PetscBool              drag = PETSC_FALSE;
+  PetscReal              dt   = 1e-3, mu;
+  PetscInt               seed = 7;
   DM                     da_s, da_v;
   Mat                    A;
   Vec                    eps_v, beta_v;
@@ -172,15 +169,14 @@ int main(int argc, char **argv)
   MatType                type;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
-  comm = PETSC_COMM_WORLD;
   PetscCall(PetscOptionsGetBool(NULL, NULL, "-drag", &drag, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-dt", &dt, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-field_seed", &seed, NULL));
-  PetscCall(PhaseLogRegister(&log));
-  PetscCall(DomainSetFromOptions(comm, &dom));
-  PetscCall(GridsCreate(comm, dom, 0.0, &grids));
-  PetscCall(FluidCreate(comm, dom, grids.fluid, &log, &fluid));
-  PetscCall(FluidSetUp(fluid));
+  PetscCall(component::GasSceneCreate(PETSC_COMM_WORLD, &sc));
+  const MPI_Comm comm  = sc.comm;
+  const Domain  &dom   = sc.dom;
+  const Grids   &grids = sc.grids;
+  Fluid         *fluid = sc.fluid;
 
   s.dom = &dom;
   for (int a = 0; a < 3; ++a) {
@@ -224,8 +220,7 @@ int main(int argc, char **argv)
   // model B without drag keeps the set-up's operator (constant coefficients); otherwise it follows eps, beta and dt
   PetscCall(Compare(comm, "after a gas step", D, HandBuilt(s, eps, beta, drag ? dt : 0.0), N));
 
-  PetscCall(FluidDestroy(&fluid));
-  PetscCall(GridsDestroy(&grids));
+  PetscCall(component::GasSceneDestroy(&sc));
   PetscCall(PetscFinalize());
   return 0;
 }
