@@ -174,7 +174,7 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   PetscFunctionBeginUser;
   for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
     WallContact    &wc  = nl.walls[(std::size_t)k];
-    PetscReal      *hk  = &nl.wall_hist[(std::size_t)(kLsdHistory * k)];
+    PetscReal      *hk  = nl.WallHistory(k);
     const WallFace &w   = L.wall_of_face[wc.face];
     const PetscReal xa  = (&bi.x.x)[w.axis];
     const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;

@@ -134,7 +134,6 @@ PetscErrorCode DemSyncPairHistory(Dem *dem)
   PetscFunctionBeginUser;
   if (nlocal <= 0) PetscFunctionReturn(0);
   PetscCall(ParticleArraysGet(dem->swarm, &p));
-  std::vector<PetscReal> mirrored((std::size_t)p.hs);
   for (PetscInt i = 0; i < nlocal; ++i) {
     const PetscInt64 id = dem->body_id[(std::size_t)i];
     for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
@@ -148,8 +147,7 @@ PetscErrorCode DemSyncPairHistory(Dem *dem)
       if (j >= nlocal) continue; // a ghost partner: its owner keeps its own side
       if (pr.slot >= 0) {
         if (pr.partner_slot < 0) PetscCall(HistorySlotTake(p, j, id, &pr.partner_slot));
-        dem->contact.mirror(nl.PairHistory(q), mirrored.data());
-        HistoryCopy(p.hs, mirrored.data(), SlotHistory(p, j, pr.partner_slot));
+        dem->contact.mirror(nl.PairHistory(q), SlotHistory(p, j, pr.partner_slot));
       } else if (pr.partner_slot >= 0) {
         HistorySlotFree(p, j, pr.partner_slot);
         pr.partner_slot = -1;
