@@ -15,31 +15,12 @@ import argparse
 import glob
 import json
 import os
-import re
 import sys
 
 import h5py
 import numpy as np
 
-
-def domain_size(run):
-    """(lx, ly) of the run from the options file and command line in command.txt (fluidbed's defaults otherwise)."""
-    lx = ly = None
-    cmd_file = os.path.join(run, "command.txt")
-    if not os.path.exists(cmd_file):
-        return lx, ly
-    words = open(cmd_file).read().split()
-    opts = {}
-    for i, w in enumerate(words):
-        if w == "-options_file" and i + 1 < len(words) and os.path.exists(words[i + 1]):
-            for line in open(words[i + 1]):
-                m = re.match(r"\s*(-domain_l[xy])\s+(\S+)", line)
-                if m:
-                    opts[m.group(1)] = float(m.group(2))
-    for i, w in enumerate(words):  # the command line overrides the file
-        if w in ("-domain_lx", "-domain_ly") and i + 1 < len(words):
-            opts[w] = float(words[i + 1])
-    return opts.get("-domain_lx"), opts.get("-domain_ly")
+from fluidbed_tools import outputs
 
 
 def read_rows(run, height, start, ly):
@@ -83,7 +64,8 @@ def main():
     ap.add_argument("--ly", type=float, help="bed height in m (default: from the run's options)")
     ap.add_argument("--json", help="write the figures to this file")
     a = ap.parse_args()
-    lx, ly = domain_size(a.run)
+    o = outputs.run_options(a.run, {"-domain_lx": None, "-domain_ly": None})
+    lx, ly = o["-domain_lx"], o["-domain_ly"]
     lx, ly = a.lx or lx, a.ly or ly
     if not ly:
         sys.exit("profile_asymmetry.py: the domain height is not in %s/command.txt: give --ly" % a.run)

@@ -9,37 +9,14 @@ import argparse
 import glob
 import json
 import os
-import re
 import sys
 
 import h5py
 import numpy as np
 
+from fluidbed_tools import outputs
+
 DEFAULTS = {"-domain_lx": None, "-domain_ly": None, "-domain_lz": None, "-fluid_rho": 1.205, "-particle_density": 2500.0}
-
-
-def run_options(run):
-    """The numeric options above from the options file and command line in command.txt (later ones win)."""
-    opts = dict(DEFAULTS)
-    path = os.path.join(run, "command.txt")
-    if not os.path.exists(path):
-        return opts
-    words = open(path).read().split()
-    pairs = []
-    for i, w in enumerate(words):
-        if w == "-options_file" and i + 1 < len(words) and os.path.exists(words[i + 1]):
-            for line in open(words[i + 1]):
-                m = re.match(r"\s*(-\w+)\s+(\S+)", line)
-                if m:
-                    pairs.append((m.group(1), m.group(2)))
-    pairs += [(w, words[i + 1]) for i, w in enumerate(words[:-1]) if w.startswith("-")]
-    for k, v in pairs:
-        if k in opts:
-            try:
-                opts[k] = float(v)
-            except ValueError:
-                pass
-    return opts
 
 
 def main():
@@ -49,7 +26,7 @@ def main():
     ap.add_argument("--gravity", type=float, default=9.81, help="gravity in m/s^2 (default 9.81)")
     ap.add_argument("--json", help="write the figures to this file")
     a = ap.parse_args()
-    o = run_options(a.run)
+    o = outputs.run_options(a.run, DEFAULTS)
     if not o["-domain_ly"]:
         sys.exit("snapshot_pressure_drop.py: no -domain_ly in %s/command.txt" % a.run)
     L, rho_g = o["-domain_ly"], o["-fluid_rho"]

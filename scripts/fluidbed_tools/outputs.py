@@ -2,6 +2,7 @@
 summary.json and the HDF5 files (analysis.h5, snapshot_NNNNN.h5, checkpoint.h5). numpy; h5py for the HDF5 files."""
 import json
 import os
+import re
 
 import numpy as np
 
@@ -26,3 +27,28 @@ def read_h5(path):
     with h5py.File(path, "r") as f:
         f.visititems(lambda name, obj: data.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
     return data
+
+
+def run_options(run, defaults):
+    """The numeric options named in defaults ({"-domain_ly": None, ...}) as a run was given them: from the options
+    file and then the command line recorded in its command.txt (later ones win); the defaults where neither has one."""
+    opts = dict(defaults)
+    path = os.path.join(run, "command.txt")
+    if not os.path.exists(path):
+        return opts
+    words = open(path).read().split()
+    pairs = []
+    for i, w in enumerate(words):
+        if w == "-options_file" and i + 1 < len(words) and os.path.exists(words[i + 1]):
+            for line in open(words[i + 1]):
+                m = re.match(r"\s*(-\w+)\s+(\S+)", line)
+                if m:
+                    pairs.append((m.group(1), m.group(2)))
+    pairs += [(w, words[i + 1]) for i, w in enumerate(words[:-1]) if w.startswith("-")]
+    for k, v in pairs:
+        if k in opts:
+            try:
+                opts[k] = float(v)
+            except ValueError:
+                pass
+    return opts
