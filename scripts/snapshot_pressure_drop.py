@@ -41,8 +41,6 @@ def main():
         if p.ndim == 2:
             p = p[None]
         layers = p.mean(axis=(0, 2))  # per cell layer along y
-        ny = len(layers)
-        h = L / ny
         p_bottom = layers[0] - 0.5 * (layers[1] - layers[0])  # half a cell below the first centre
         p_top = layers[-1] + 0.5 * (layers[-1] - layers[-2])
         times.append(t)
