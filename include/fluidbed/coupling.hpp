@@ -25,9 +25,9 @@
 
 #include <vector>
 
-#include "fluidbed/dem.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
+#include "fluidbed/particle_motion.hpp"
 
 namespace fluidbed {
 
@@ -44,10 +44,10 @@ struct CouplingStats {
   PetscInt64 cells       = 0;            // coupling cells in all
 };
 
-// Reads -couple_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the DEM's external-force hook and
+// Reads -couple_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the particles' external-force hook and
 // sets the buoyancy factor.
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, Dem *dem, Fluid *fluid, PhaseLog *log,
-                              Coupling **coupling);
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, ParticleSystem *particles, Fluid *fluid,
+                              PhaseLog *log, Coupling **coupling);
 // The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
 PetscErrorCode       CouplingSetUp(Coupling *coupling);
 PetscErrorCode       CouplingBeforeFluidStep(Coupling *coupling);

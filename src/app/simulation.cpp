@@ -155,7 +155,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(FluidSetUp(sim->fluid));
   }
   if (sim->dem && sim->fluid)
-    PetscCall(CouplingCreate(sim->comm, sim->domain, sim->grids, sim->dem, sim->fluid, &sim->log, &sim->coupling));
+    PetscCall(CouplingCreate(sim->comm, sim->domain, sim->grids, DemGetParticles(sim->dem), sim->fluid, &sim->log, &sim->coupling));
   PetscCall(GuardsCreate(sim->comm, sim->domain, sim->dem, sim->fluid, sim->coupling, &sim->log, &sim->guards));
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));

@@ -8,7 +8,7 @@
 // evaluated sums its walls and contributions (dem.hpp, NeighbourList). The swarm's history slots are taken and
 // freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
 // the checkpoints written from them are unchanged too.
-#include "../particles/dem_impl.hpp"
+#include "dem_impl.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
 #include "history_slots.hpp"
@@ -84,20 +84,20 @@ struct Sums {
 
 // The state of one force evaluation, shared by the per-particle steps below.
 struct ForceLoop {
-  Dem               *dem;
-  NeighbourList     *nl;
-  ParticleArrays     p;
-  PetscInt           nlocal;
-  PetscReal          dt;
-  bool               periodic;
-  PetscReal          period[3];
-  Vec3               g;
-  const WallFace    *wall_of_face; // indexed by face
-  Contribution      *contrib;      // per pair, at ContactPair::out
-  const ContactBody *bodies;
-  PetscInt           npairs;
-  PetscInt64         contacts;
-  PetscReal          max_rel;
+  Dem                *dem;
+  NeighbourList      *nl;
+  ParticleArrays      p;
+  PetscInt            nlocal;
+  PetscReal           dt;
+  bool                periodic;
+  PetscReal           period[3];
+  Vec3                g;
+  const WallFace     *wall_of_face; // indexed by face
+  Contribution       *contrib;      // per pair, at ContactPair::out
+  const ParticleBody *bodies;
+  PetscInt            npairs;
+  PetscInt64          contacts;
+  PetscReal           max_rel;
 };
 
 constexpr PetscInt  kPrefetchPairs = 8;
@@ -108,7 +108,7 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 // contacts begin and end (DemSyncPairHistory stores the histories in them before particles move).
 [[gnu::always_inline]] inline PetscErrorCode EvaluatePairs(ForceLoop &L, PetscInt i)
 {
-  const ContactBody       &bi     = L.bodies[i];
+  const ParticleBody      &bi     = L.bodies[i];
   const PetscInt           nlocal = L.nlocal;
   const PetscReal          dt     = L.dt;
   const kernels::LsdModel &pp     = L.dem->par.pp;
@@ -121,13 +121,13 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
     if (q + kPrefetchPairs < L.npairs) { // the partner of a pair a few ahead: its body is a likely cache miss
       const char *b = reinterpret_cast<const char *>(&L.bodies[pairs[q + kPrefetchPairs].partner]);
       __builtin_prefetch(b);
-      __builtin_prefetch(b + sizeof(ContactBody) - 1);
+      __builtin_prefetch(b + sizeof(ParticleBody) - 1);
     }
-    ContactPair       &pr      = pairs[q];
-    const PetscInt     j       = pr.partner;
-    const bool         j_local = j < nlocal;
-    const ContactBody &bj      = L.bodies[j];
-    Vec3               d       = bj.x - bi.x;
+    ContactPair        &pr      = pairs[q];
+    const PetscInt      j       = pr.partner;
+    const bool          j_local = j < nlocal;
+    const ParticleBody &bj      = L.bodies[j];
+    Vec3                d       = bj.x - bi.x;
     if (L.periodic) {
       d.x = kernels::min_image(d.x, L.period[0]);
       d.y = kernels::min_image(d.y, L.period[1]);
@@ -163,13 +163,13 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 }
 
 // The walls of particle i's list, summed into sum in face order: the others were more than r + skin away at the last
-// rebuild, and no particle moves half the skin before the next (DemKickDrift). Out of line: most particles have no
+// rebuild, and no particle moves half the skin before the next (ParticlesKickDrift). Out of line: most particles have no
 // wall near, and the pair sums of SumParticle keep their registers without this code.
 [[gnu::noinline]] PetscErrorCode SumWalls(ForceLoop &L, PetscInt i, Sums *sum)
 {
-  const ContactBody &bi = L.bodies[i];
-  const PetscReal    dt = L.dt;
-  NeighbourList     &nl = *L.nl;
+  const ParticleBody &bi = L.bodies[i];
+  const PetscReal     dt = L.dt;
+  NeighbourList      &nl = *L.nl;
 
   PetscFunctionBeginUser;
   for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
@@ -200,9 +200,9 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 // id, then gravity. All its pairs have been evaluated.
 [[gnu::always_inline]] inline PetscErrorCode SumParticle(ForceLoop &L, PetscInt i)
 {
-  const ContactBody &bi = L.bodies[i];
-  NeighbourList     &nl = *L.nl;
-  Sums               sum;
+  const ParticleBody &bi = L.bodies[i];
+  NeighbourList      &nl = *L.nl;
+  Sums                sum;
 
   PetscFunctionBeginUser;
   if (nl.wall_start[(std::size_t)i] < nl.wall_start[(std::size_t)i + 1]) PetscCall(SumWalls(L, i, &sum));
@@ -253,7 +253,7 @@ PetscErrorCode LsdForces(Dem *dem)
   L.dem      = dem;
   L.nl       = &nl;
   L.nlocal   = nlocal;
-  L.dt       = dem->par.dt;
+  L.dt       = dem->dt;
   L.periodic = dom.periodic[0] || dom.periodic[1] || dom.periodic[2];
   for (int a = 0; a < 3; ++a) L.period[a] = dom.periodic[a] ? dom.len[a] : 0.0;
   L.g            = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};

@@ -1,7 +1,7 @@
 // Contact models by name (include/fluidbed/contact_model.hpp), the contact parameters and the DEM time step (seed
 // eq. 3.2-3.3, Table 3.3 / 5.3 defaults), and what every model shares: its history slots in the swarm and their
 // sync with the neighbour lists.
-#include "../particles/dem_impl.hpp"
+#include "dem_impl.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/registry.hpp"
 

@@ -2,7 +2,7 @@
 // 2 r_max + skin), not the 3 d particle cells: each particle then tests about 40 candidates instead of ~350.
 // Lists are full (each pair appears for both particles) and sorted by partner id, which fixes the order in
 // which contact forces are summed (see dem.hpp).
-#include "../particles/dem_impl.hpp"
+#include "dem_impl.hpp"
 
 #include "history_slots.hpp"
 
@@ -171,7 +171,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
         HistorySlotFree(p, i, s);
       }
     }
-    const ContactBody &b = dem->bodies[(std::size_t)i];
+    const ParticleBody &b = dem->bodies[(std::size_t)i];
     for (int f = 0; f < 2 * dim; ++f) {
       if (!dom.IsParticleWall(f)) continue;
       const int       a   = f / 2;

@@ -27,21 +27,21 @@ static const char *const CouplingGridTypes[] = {"two", "single", "CouplingGrid",
 // M - B u per cell, implicitly in u (fluid.hpp). Summed over a cell, the particles get B u - M: action and
 // reaction cancel exactly.
 struct Coupling {
-  MPI_Comm      comm  = MPI_COMM_NULL;
-  const Domain *dom   = nullptr;
-  const Grids  *grids = nullptr;
-  Dem          *dem   = nullptr;
-  Fluid        *fluid = nullptr;
-  PhaseLog     *log   = nullptr;
-  PetscInt      dim = 3, substeps = 1;
-  CouplingGrid  mode = COUPLING_GRID_TWO;
-  PetscInt      n[3]{1, 1, 1}, ratio[3]{1, 1, 1};
-  PetscReal     h[3]{1, 1, 1}, cell_volume = 1;
-  PetscReal     eps_min       = 0.05;
-  PetscBool     divide_eps    = PETSC_TRUE; // Model B drag = Model A drag / eps
-  char          drag_name[64] = "ergun_wenyu";
-  DragLaw       drag;
-  PetscReal     rho_g = 1.205, mu_g = 1.8e-5;
+  MPI_Comm        comm      = MPI_COMM_NULL;
+  const Domain   *dom       = nullptr;
+  const Grids    *grids     = nullptr;
+  ParticleSystem *particles = nullptr;
+  Fluid          *fluid     = nullptr;
+  PhaseLog       *log       = nullptr;
+  PetscInt        dim = 3, substeps = 1;
+  CouplingGrid    mode = COUPLING_GRID_TWO;
+  PetscInt        n[3]{1, 1, 1}, ratio[3]{1, 1, 1};
+  PetscReal       h[3]{1, 1, 1}, cell_volume = 1;
+  PetscReal       eps_min       = 0.05;
+  PetscBool       divide_eps    = PETSC_TRUE; // Model B drag = Model A drag / eps
+  char            drag_name[64] = "ergun_wenyu";
+  DragLaw         drag;
+  PetscReal       rho_g = 1.205, mu_g = 1.8e-5;
 
   DM                                  da      = nullptr;
   Vec                                 deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
@@ -85,7 +85,7 @@ void ForOwnedCells(const DMDAField &v, Fn &&fn)
 // function of the particles' state alone, so that a restart repeats the uninterrupted run bit for bit.
 // The order is a stable counting sort by cell of the particles sorted by id. The id order only changes when the
 // swarm's storage does (list rebuilds), so it is kept and re-sorted only when it no longer lists increasing ids.
-PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ContactBody *bodies)
+PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBody *bodies)
 {
   PetscInt64 *ids;
   PetscInt    gs[3] = {0, 0, 0}, gm[3] = {1, 1, 1};
@@ -176,7 +176,7 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
 // Called by the DEM after the contact forces of every step: adds each particle's drag F = a u - b (eq. 2.18,
 // linearised at the last gas step); at the last step before a gas step, refreshes a and b with the current void
 // fraction and predicted velocities and sums B and M per cell for the gas (eq. 2.21, 5.1).
-PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
+PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ParticleBody *bodies)
 {
   Coupling   *c = (Coupling *)ctx;
   PetscInt    n;
@@ -232,10 +232,10 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
       if (c->cell_start[q] > (q ? c->cell_start[q - 1] : 0)) c->cell_terms[q] = c->drag.cell(g[(PetscInt)q * dof]);
     // each particle's linearised drag, in storage order (the particles' data are read in the order they are stored)
     for (PetscInt p = 0; p < n; ++p) {
-      const ContactBody &bp  = bodies[p];
-      const PetscScalar *gc  = g + local[p] * dof;
-      const PetscReal    eps = gc[0];
-      Vec3               u;
+      const ParticleBody &bp  = bodies[p];
+      const PetscScalar  *gc  = g + local[p] * dof;
+      const PetscReal     eps = gc[0];
+      Vec3                u;
       for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gc[2 + d];
       // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
       const PetscReal K =
@@ -266,18 +266,19 @@ PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ContactBody *bodies)
 
 } // namespace
 
-PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, Dem *dem, Fluid *fluid, PhaseLog *log, Coupling **out)
+PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &grids, ParticleSystem *particles, Fluid *fluid, PhaseLog *log,
+                              Coupling **out)
 {
   Coupling *c = new Coupling;
 
   PetscFunctionBeginUser;
-  c->comm  = comm;
-  c->dom   = &dom;
-  c->grids = &grids;
-  c->dem   = dem;
-  c->fluid = fluid;
-  c->log   = log;
-  c->dim   = dom.dim;
+  c->comm      = comm;
+  c->dom       = &dom;
+  c->grids     = &grids;
+  c->particles = particles;
+  c->fluid     = fluid;
+  c->log       = log;
+  c->dim       = dom.dim;
   PetscOptionsBegin(comm, "", "Gas-particle coupling (seed eq. 2.11-2.21, two-grid mapping eq. 5.1-5.5)", "Coupling");
   PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step (gas step = DEM step x this)", 1, 100000,
                        &c->substeps, NULL));
@@ -303,7 +304,7 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   PetscCall(FluidGetGasProperties(fluid, &c->rho_g, &c->mu_g));
 
   // Buoyancy (Model B, eq. 2.1): the particles' gravity is (rho_p - rho_g) V_p g.
-  DemSetBodyForceFactor(dem, 1.0 - c->rho_g / DemGetProps(dem).density);
+  ParticlesSetBodyForceFactor(particles, 1.0 - c->rho_g / ParticlesGetProps(particles).density);
 
   // The coupling grid: the particle cells, or the fluid cells.
   const ParticleGrid   &pg = grids.particle;
@@ -333,7 +334,7 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   PetscCall(VecZeroEntries(c->gas));
   PetscCall(VecStrideSet(c->gas, 0, 1.0)); // eps 1 and no gas motion until set
 
-  DemSetExternalForce(dem, ParticleDrag, c);
+  ParticlesSetExternalForce(particles, ParticleDrag, c);
   *out = c;
   PetscFunctionReturn(0);
 }
@@ -522,7 +523,7 @@ PetscErrorCode CouplingGasStep(Coupling *c, PetscReal *dt_gas, PetscReal *dt_max
   PetscFunctionBeginUser;
   PetscCheck(FluidFixedTimeStep(c->fluid) == 0, c->comm, PETSC_ERR_USER_INPUT,
              "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
-  *dt_gas = DemGetParams(c->dem).dt * c->substeps;
+  *dt_gas = ParticlesTimeStep(c->particles) * c->substeps;
   PetscCall(FluidMaxTimeStep(c->fluid, dt_max));
   PetscFunctionReturn(0);
 }

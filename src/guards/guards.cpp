@@ -184,7 +184,7 @@ PetscErrorCode TripDisplacement(Guards *g, PetscInt64 step, PetscReal time, Pets
   GuardTrip    t = NewTrip(GUARD_DISPLACEMENT, step, time, value, g->opt.displacement);
 
   PetscFunctionBeginUser;
-  PetscCall(DemLocateFastest(g->dem, &s));
+  PetscCall(ParticlesLocateFastest(DemGetParticles(g->dem), &s));
   t.what   = Format("a particle moved %.3g of its diameter in one step (limit -guard_displacement %.3g)", (double)value,
                     (double)g->opt.displacement);
   t.where  = Format("now particle %lld moves %.3g d per step at %s on rank %d", (long long)s.id, (double)s.value,
@@ -201,7 +201,7 @@ PetscErrorCode TripEnergy(Guards *g, PetscInt64 step, PetscReal time, PetscReal 
   GuardTrip    t = NewTrip(GUARD_ENERGY, step, time, growth, g->opt.energy_growth);
 
   PetscFunctionBeginUser;
-  PetscCall(DemLocateFastest(g->dem, &s));
+  PetscCall(ParticlesLocateFastest(DemGetParticles(g->dem), &s));
   t.what   = Format("the mechanical energy of a scene without energy input grew by %.3g of its least value (%.6g J -> %.6g J; limit "
                       "-guard_energy_growth %.3g)",
                     (double)growth, (double)g->energy.least, (double)e, (double)g->opt.energy_growth);
@@ -410,7 +410,7 @@ PetscErrorCode GuardsCheckParticles(Guards *g, PetscInt64 step, PetscReal time, 
   if (glob[2] > 0 || step == 0) {
     ParticleSite            site;
     std::vector<PetscInt64> ids;
-    PetscCall(DemLocateNonFinite(dem, &site, &ids));
+    PetscCall(ParticlesLocateNonFinite(DemGetParticles(dem), &site, &ids));
     nan = site.count > 0;
     if (nan) PetscCall(TripNonFinite(g, step, time, site, ids));
   }

@@ -5,7 +5,7 @@
 // travel in a BASIC ghost swarm through DMSwarmMigrate, which sends each point to the rank in its DMSwarm_rank
 // field. The received ghosts know their owner's rank and index, which defines a PetscSF that refreshes their
 // state from the owners every step.
-#include "dem_impl.hpp"
+#include "fluidbed/particle_system.hpp"
 
 #include <vector>
 
@@ -13,7 +13,7 @@ namespace fluidbed {
 
 namespace {
 
-constexpr const char *kGhostBody  = "ghost_body";  // 11 reals: ContactBody
+constexpr const char *kGhostBody  = "ghost_body";  // 11 reals: ParticleBody
 constexpr const char *kGhostId    = "ghost_id";    // PetscInt64
 constexpr const char *kGhostOwner = "ghost_owner"; // 2 PetscInt: owner rank, owner local index
 constexpr const char *kGhostShift = "ghost_shift"; // 3 reals: periodic image offset
@@ -25,7 +25,7 @@ PetscErrorCode GhostSwarmCreate(MPI_Comm comm, DM *gsw)
   PetscCall(PetscObjectSetName((PetscObject)*gsw, "ghost_particles"));
   PetscCall(DMSetType(*gsw, DMSWARM));
   PetscCall(DMSwarmSetType(*gsw, DMSWARM_BASIC));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(*gsw, kGhostBody, (PetscInt)(sizeof(ContactBody) / sizeof(PetscReal)), PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(*gsw, kGhostBody, (PetscInt)(sizeof(ParticleBody) / sizeof(PetscReal)), PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(*gsw, kGhostId, 1, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(*gsw, kGhostOwner, 2, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(*gsw, kGhostShift, 3, PETSC_REAL));
@@ -42,30 +42,30 @@ struct GhostCopy {
 
 } // namespace
 
-PetscErrorCode DemGhostsBuild(Dem *dem)
+PetscErrorCode ParticlesGhostsBuild(ParticleSystem *ps)
 {
-  static_assert(sizeof(ContactBody) == 11 * sizeof(PetscReal), "ContactBody must be 11 packed reals for the ghost PetscSF");
-  GhostExchange         &gx   = dem->ghosts;
-  const Domain          &dom  = *dem->dom;
-  const ParticleGrid    &pg   = *dem->pgrid;
-  MPI_Comm               comm = PetscObjectComm((PetscObject)dem->swarm);
+  static_assert(sizeof(ParticleBody) == 11 * sizeof(PetscReal), "ParticleBody must be 11 packed reals for the ghost PetscSF");
+  GhostExchange         &gx   = ps->ghosts;
+  const Domain          &dom  = *ps->dom;
+  const ParticleGrid    &pg   = *ps->pgrid;
+  MPI_Comm               comm = PetscObjectComm((PetscObject)ps->swarm);
   const int              dim  = (int)dom.dim;
-  const PetscReal        h    = dem->halo;
+  const PetscReal        h    = ps->halo;
   PetscMPIInt            rank;
   PetscInt               nlocal;
   std::vector<GhostCopy> copies;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(DMSwarmGetLocalSize(dem->swarm, &nlocal));
+  PetscCall(DMSwarmGetLocalSize(ps->swarm, &nlocal));
   if (!gx.swarm) PetscCall(GhostSwarmCreate(comm, &gx.swarm));
   PetscCall(PetscSFDestroy(&gx.sf));
 
   // Which neighbouring subdomains need each particle.
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &b    = dem->bodies[(std::size_t)i];
-    const PetscReal    x[3] = {b.x.x, b.x.y, b.x.z};
-    bool               near_lo[3], near_hi[3];
+    const ParticleBody &b    = ps->bodies[(std::size_t)i];
+    const PetscReal     x[3] = {b.x.x, b.x.y, b.x.z};
+    bool                near_lo[3], near_hi[3];
     for (int a = 0; a < 3; ++a) {
       near_lo[a] = a < dim && x[a] - pg.sub_lo[a] < h;
       near_hi[a] = a < dim && pg.sub_hi[a] - x[a] < h;
@@ -106,7 +106,7 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
     PetscInt64    *gid;
     ParticleArrays p;
     PetscCall(DMSwarmSetLocalSizes(gx.swarm, (PetscInt)copies.size(), 256));
-    PetscCall(ParticleArraysGet(dem->swarm, &p));
+    PetscCall(ParticleArraysGet(ps->swarm, &p));
     PetscCall(DMSwarmGetField(gx.swarm, DMSwarmField_rank, NULL, NULL, (void **)&dest));
     PetscCall(DMSwarmGetField(gx.swarm, kGhostBody, NULL, NULL, (void **)&body));
     PetscCall(DMSwarmGetField(gx.swarm, kGhostId, NULL, NULL, (void **)&gid));
@@ -119,7 +119,7 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
       owner[2 * k]       = rank;
       owner[2 * k + 1]   = c.index;
       for (int a = 0; a < 3; ++a) shift[3 * k + a] = c.shift[a];
-      const PetscReal *src = reinterpret_cast<const PetscReal *>(&dem->bodies[(std::size_t)c.index]);
+      const PetscReal *src = reinterpret_cast<const PetscReal *>(&ps->bodies[(std::size_t)c.index]);
       for (int s = 0; s < 11; ++s) body[11 * k + s] = src[s];
     }
     PetscCall(DMSwarmRestoreField(gx.swarm, kGhostShift, NULL, NULL, (void **)&shift));
@@ -127,7 +127,7 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
     PetscCall(DMSwarmRestoreField(gx.swarm, kGhostId, NULL, NULL, (void **)&gid));
     PetscCall(DMSwarmRestoreField(gx.swarm, kGhostBody, NULL, NULL, (void **)&body));
     PetscCall(DMSwarmRestoreField(gx.swarm, DMSwarmField_rank, NULL, NULL, (void **)&dest));
-    PetscCall(ParticleArraysRestore(dem->swarm, &p));
+    PetscCall(ParticleArraysRestore(ps->swarm, &p));
   }
   PetscCall(DMSwarmMigrate(gx.swarm, PETSC_TRUE));
 
@@ -138,7 +138,7 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
     PetscInt64  *gid;
     PetscSFNode *remote;
     PetscCall(DMSwarmGetLocalSize(gx.swarm, &gx.n));
-    dem->bodies.resize((std::size_t)(nlocal + gx.n));
+    ps->bodies.resize((std::size_t)(nlocal + gx.n));
     gx.id.resize((std::size_t)gx.n);
     gx.shift.resize(3 * (std::size_t)gx.n);
     PetscCall(PetscMalloc1(gx.n, &remote));
@@ -147,7 +147,7 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
     PetscCall(DMSwarmGetField(gx.swarm, kGhostOwner, NULL, NULL, (void **)&owner));
     PetscCall(DMSwarmGetField(gx.swarm, kGhostShift, NULL, NULL, (void **)&shift));
     for (PetscInt g = 0; g < gx.n; ++g) {
-      PetscReal *dst = reinterpret_cast<PetscReal *>(&dem->bodies[(std::size_t)(nlocal + g)]);
+      PetscReal *dst = reinterpret_cast<PetscReal *>(&ps->bodies[(std::size_t)(nlocal + g)]);
       for (int s = 0; s < 11; ++s) dst[s] = body[11 * g + s];
       gx.id[(std::size_t)g] = gid[g];
       for (int a = 0; a < 3; ++a) gx.shift[3 * (std::size_t)g + a] = shift[3 * g + a];
@@ -165,20 +165,20 @@ PetscErrorCode DemGhostsBuild(Dem *dem)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DemGhostsUpdate(Dem *dem)
+PetscErrorCode ParticlesGhostsUpdate(ParticleSystem *ps)
 {
-  GhostExchange &gx     = dem->ghosts;
-  const PetscInt nlocal = (PetscInt)dem->bodies.size() - gx.n;
+  GhostExchange &gx     = ps->ghosts;
+  const PetscInt nlocal = (PetscInt)ps->bodies.size() - gx.n;
 
   PetscFunctionBeginUser;
   if (!gx.sf) PetscFunctionReturn(0);
-  ContactBody *all = dem->bodies.data();
+  ParticleBody *all = ps->bodies.data();
   PetscCall(PetscSFBcastBegin(gx.sf, gx.body_type, all, all + nlocal, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(gx.sf, gx.body_type, all, all + nlocal, MPI_REPLACE));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DemGhostsDestroy(GhostExchange *gx)
+PetscErrorCode ParticlesGhostsDestroy(GhostExchange *gx)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscSFDestroy(&gx->sf));

@@ -1,6 +1,6 @@
 // Velocity-Verlet loops over the local particles (kernels/verlet.hpp) and the per-step packing of the contact
 // bodies with predicted velocities.
-#include "dem_impl.hpp"
+#include "fluidbed/particle_system.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 #include "fluidbed/kernels/verlet.hpp"
 
@@ -51,21 +51,21 @@ inline void ConstrainPlanar(Vec3 &v, Vec3 &w)
 
 } // namespace
 
-PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
+PetscErrorCode ParticlesKickDrift(ParticleSystem *ps, PetscBool *need_rebuild)
 {
-  const Domain   &dom = *dem->dom;
-  const PetscReal dt = dem->par.dt, h = 0.5 * dt;
-  const bool      planar = dom.dim == 2 || dem->par.pseudo2d;
-  const PetscReal lim2   = 0.25 * dem->skin * dem->skin;
+  const Domain   &dom = *ps->dom;
+  const PetscReal dt = ps->dt, h = 0.5 * dt;
+  const bool      planar = dom.dim == 2 || ps->pseudo2d;
+  const PetscReal lim2   = 0.25 * ps->skin * ps->skin;
   const PetscReal outlet = dom.top_outlet ? dom.hi[1] : PETSC_MAX_REAL;
   ParticleArrays  p;
   PetscBool       rebuild = PETSC_FALSE;
-  MassTerms       mt{*dem->props};
+  MassTerms       mt{*ps->props};
   PetscReal       step2  = 0.0; // largest (|v| dt / d)^2 of this step
   bool            finite = true;
 
   PetscFunctionBeginUser;
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  PetscCall(ParticleArraysGet(ps->swarm, &p));
   const PetscInt dim = p.dim;
   for (PetscInt i = 0; i < p.n; ++i) {
     mt.Set(p.d[i]);
@@ -84,61 +84,61 @@ PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild)
         else if (x < dom.lo[a]) x += dom.len[a];
       }
       p.x[dim * i + a]   = x;
-      const PetscReal dx = kernels::min_image(x - dem->x_ref[3 * i + a], dom.periodic[a] ? dom.len[a] : 0.0);
+      const PetscReal dx = kernels::min_image(x - ps->x_ref[3 * i + a], dom.periodic[a] ? dom.len[a] : 0.0);
       d2 += dx * dx;
     }
     if (d2 > lim2) rebuild = PETSC_TRUE;
-    // a particle past the outlet leaves in this step: the rebuild removes and counts it (DemMigrate)
+    // a particle past the outlet leaves in this step: the rebuild removes and counts it (ParticlesMigrate)
     if (p.x[dim * i + 1] >= outlet) rebuild = PETSC_TRUE;
     // for the guards: the step's largest move in diameters, and whether the motion is still a number
     const PetscReal v2 = kernels::dot(v, v), s2 = v2 * (dt * dt) / (p.d[i] * p.d[i]);
     step2  = PetscMax(step2, s2);
     finite = finite && std::isfinite(v2 + kernels::dot(w, w));
   }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
-  dem->stats.guard_step_rel = PetscMax(dem->stats.guard_step_rel, PetscSqrtReal(step2));
-  if (!finite) dem->stats.nonfinite = PETSC_TRUE;
+  PetscCall(ParticleArraysRestore(ps->swarm, &p));
+  ps->stats.guard_step_rel = PetscMax(ps->stats.guard_step_rel, PetscSqrtReal(step2));
+  if (!finite) ps->stats.nonfinite = PETSC_TRUE;
   *need_rebuild = rebuild;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DemKick(Dem *dem)
+PetscErrorCode ParticlesKick(ParticleSystem *ps)
 {
-  const PetscReal h      = 0.5 * dem->par.dt;
-  const bool      planar = dem->dom->dim == 2 || dem->par.pseudo2d;
+  const PetscReal h      = 0.5 * ps->dt;
+  const bool      planar = ps->dom->dim == 2 || ps->pseudo2d;
   ParticleArrays  p;
-  MassTerms       mt{*dem->props};
+  MassTerms       mt{*ps->props};
   bool            finite = true;
 
   PetscFunctionBeginUser;
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  PetscCall(ParticleArraysGet(ps->swarm, &p));
   for (PetscInt i = 0; i < p.n; ++i) {
     mt.Set(p.d[i]);
     Vec3 v = Load3(p.v, i), w = Load3(p.w, i);
     kernels::kick(v, Load3(p.f, i), mt.inv_m, h);
-    v += mt.inv_m * Load3(dem->impulse.data(), i); // exact dashpot impulse (kernels/contact_lsd.hpp)
+    v += mt.inv_m * Load3(ps->impulse.data(), i); // exact dashpot impulse (kernels/contact_lsd.hpp)
     kernels::kick(w, Load3(p.t, i), mt.inv_I, h);
     if (planar) ConstrainPlanar(v, w);
     Store3(p.v, i, v);
     Store3(p.w, i, w);
     finite = finite && std::isfinite(kernels::dot(v, v) + kernels::dot(w, w));
   }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
-  if (!finite) dem->stats.nonfinite = PETSC_TRUE;
+  PetscCall(ParticleArraysRestore(ps->swarm, &p));
+  if (!finite) ps->stats.nonfinite = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DemPackBodies(Dem *dem)
+PetscErrorCode ParticlesPackBodies(ParticleSystem *ps)
 {
-  const PetscReal h = 0.5 * dem->par.dt;
+  const PetscReal h = 0.5 * ps->dt;
   ParticleArrays  p;
-  MassTerms       mt{*dem->props};
+  MassTerms       mt{*ps->props};
 
   PetscFunctionBeginUser;
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
-  dem->bodies.resize((std::size_t)(p.n + dem->ghosts.n));
+  PetscCall(ParticleArraysGet(ps->swarm, &p));
+  ps->bodies.resize((std::size_t)(p.n + ps->ghosts.n));
   for (PetscInt i = 0; i < p.n; ++i) {
-    ContactBody &b = dem->bodies[(std::size_t)i];
+    ParticleBody &b = ps->bodies[(std::size_t)i];
     mt.Set(p.d[i]);
     b.x = {p.x[p.dim * i], p.x[p.dim * i + 1], p.dim == 3 ? p.x[3 * i + 2] : 0.0};
     b.v = kernels::predicted_velocity(Load3(p.v, i), Load3(p.f, i), mt.inv_m, h);
@@ -146,7 +146,7 @@ PetscErrorCode DemPackBodies(Dem *dem)
     b.r = 0.5 * p.d[i];
     b.m = mt.m;
   }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscCall(ParticleArraysRestore(ps->swarm, &p));
   PetscFunctionReturn(0);
 }
 

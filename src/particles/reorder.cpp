@@ -2,7 +2,7 @@
 // rest in whatever order earlier migrations left; sorting the storage by neighbour bin at each rebuild keeps a
 // particle's neighbours close in memory, which the contact loop (dominated by loads of the partners' state)
 // needs once the bodies no longer fit in cache. Results do not depend on the order (dem.hpp).
-#include "dem_impl.hpp"
+#include "fluidbed/particle_system.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -48,18 +48,18 @@ std::uint64_t MortonKey(std::uint64_t x, std::uint64_t y, std::uint64_t z)
 }
 } // namespace
 
-PetscErrorCode DemSortLocal(Dem *dem)
+PetscErrorCode ParticlesSortLocal(ParticleSystem *ps)
 {
-  const ParticleGrid                             &pg  = *dem->pgrid;
-  const PetscReal                                 bin = dem->props->d_max + dem->skin;
+  const ParticleGrid                             &pg  = *ps->pgrid;
+  const PetscReal                                 bin = ps->props->d_max + ps->skin;
   ParticleArrays                                  p;
   PetscInt                                        nb[3];
   std::vector<std::pair<std::uint64_t, PetscInt>> key;
   std::vector<PetscInt>                           order;
 
   PetscFunctionBeginUser;
-  for (int a = 0; a < 3; ++a) nb[a] = a < dem->dom->dim ? PetscMax(1, (PetscInt)((pg.sub_hi[a] - pg.sub_lo[a]) / bin)) : 1;
-  PetscCall(ParticleArraysGet(dem->swarm, &p));
+  for (int a = 0; a < 3; ++a) nb[a] = a < ps->dom->dim ? PetscMax(1, (PetscInt)((pg.sub_hi[a] - pg.sub_lo[a]) / bin)) : 1;
+  PetscCall(ParticleArraysGet(ps->swarm, &p));
   key.resize((std::size_t)p.n);
   for (PetscInt i = 0; i < p.n; ++i) {
     PetscInt c[3] = {0, 0, 0};
@@ -69,11 +69,11 @@ PetscErrorCode DemSortLocal(Dem *dem)
     }
     key[(std::size_t)i] = {MortonKey((std::uint64_t)c[0], (std::uint64_t)c[1], (std::uint64_t)c[2]), i};
   }
-  PetscCall(ParticleArraysRestore(dem->swarm, &p));
+  PetscCall(ParticleArraysRestore(ps->swarm, &p));
   std::sort(key.begin(), key.end()); // ties broken by the old index: deterministic
   order.resize(key.size());
   for (std::size_t k = 0; k < key.size(); ++k) order[k] = key[k].second;
-  PetscCall(ParticlesPermute(dem->swarm, order));
+  PetscCall(ParticlesPermute(ps->swarm, order));
   PetscFunctionReturn(0);
 }
 

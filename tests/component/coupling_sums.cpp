@@ -24,7 +24,7 @@
 #include "dem_scene.hpp"
 
 #include "fluidbed/coupling.hpp"
-#include "../../src/particles/dem_impl.hpp"
+#include "../../src/contact/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/drag_laws.hpp"
 #include "fluidbed/fluid.hpp"
@@ -78,7 +78,7 @@ PetscErrorCode GatherDeposited(Setup &s, std::vector<Deposited> *all)
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
   PetscCall(ParticleArraysGet(s.swarm, &p));
   for (PetscInt i = 0; i < p.n; ++i) {
-    const ContactBody &b = s.dem->bodies[(std::size_t)i];
+    const ParticleBody &b = s.dem->bodies[(std::size_t)i];
     mine.insert(mine.end(), {(PetscReal)p.id[i], (PetscReal)p.dcell[i], (PetscReal)rank, b.x.x, b.x.y, b.x.z, b.v.x, b.v.y, b.v.z, b.r,
                              p.dcoef[i], p.dref[3 * i], p.dref[3 * i + 1], p.dref[3 * i + 2]});
   }
@@ -300,8 +300,8 @@ PetscErrorCode DepositAgain(Setup &s, const std::vector<PetscReal> &f, const std
   std::copy(f.begin(), f.end(), p.f);
   std::copy(t.begin(), t.end(), p.t);
   PetscCall(ParticleArraysRestore(s.swarm, &p));
-  PetscCall(DemPackBodies(s.dem));
-  PetscCall(DemGhostsUpdate(s.dem));
+  PetscCall(ParticlesPackBodies(s.dem));
+  PetscCall(ParticlesGhostsUpdate(s.dem));
   PetscCall(DemContactForces(s.dem));
   PetscCall(CouplingBeforeFluidStep(s.coupling));
   PetscFunctionReturn(0);
@@ -323,7 +323,7 @@ int main(int argc, char **argv)
   PetscCall(component::DemSceneCreate(PETSC_COMM_WORLD, &s));
   PetscCall(FluidCreate(s.comm, s.dom, s.grids.fluid, &s.log, &s.fluid));
   PetscCall(FluidSetUp(s.fluid));
-  PetscCall(CouplingCreate(s.comm, s.dom, s.grids, s.dem, s.fluid, &s.log, &s.coupling));
+  PetscCall(CouplingCreate(s.comm, s.dom, s.grids, DemGetParticles(s.dem), s.fluid, &s.log, &s.coupling));
   PetscCall(CouplingCellSize(s.coupling, s.h, s.ratio));
   for (int a = 0; a < 3; ++a) s.n[a] = s.grids.fluid.n[a] / s.ratio[a];
   PetscCall(DragLawGet(CouplingDragName(s.coupling), &s.law));
@@ -371,8 +371,8 @@ int main(int argc, char **argv)
       }
     PetscCall(DemSyncPairHistory(s.dem));
     PetscCall(ParticlesPermute(s.swarm, order));
-    PetscCall(DemPackBodies(s.dem));
-    PetscCall(DemGhostsBuild(s.dem));
+    PetscCall(ParticlesPackBodies(s.dem));
+    PetscCall(ParticlesGhostsBuild(s.dem));
     PetscCall(DemNeighbourBuild(s.dem));
     PetscCall(DepositAgain(s, fs, ts));
   }

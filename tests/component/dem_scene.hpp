@@ -2,7 +2,7 @@
 // and its empty swarm, created and destroyed together.
 #pragma once
 
-#include "../../src/particles/dem_impl.hpp"
+#include "../../src/contact/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/particles.hpp"

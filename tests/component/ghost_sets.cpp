@@ -4,20 +4,20 @@
 // particle cells, as the insertion does) and builds the ghosts. Then, on every rank, the ghosts it received are
 // compared with a brute-force search over all particles of all ranks:
 //   - the ghost layer of a rank is its subdomain [sub_lo, sub_hi) widened by the halo h = d_max + skin on every side
-//     (Dem::halo; the test of each axis is strict, |x - face| < h, as in DemGhostsBuild); a particle of another rank,
+//     (Dem::halo; the test of each axis is strict, |x - face| < h, as in ParticlesGhostsBuild); a particle of another rank,
 //     or a periodic image of any particle (shifted by -len, 0 or +len along each periodic axis), whose centre lies in
 //     that layer is a ghost, once, and nothing else is;
 //   - each ghost's periodic offset is that image's shift, exactly, and its body (position, predicted velocity and
 //     spin, radius, mass) is its owner's, bit for bit (ghosts keep the unshifted position; the shift is applied
 //     when binning);
-//   - after the owners' bodies change, DemGhostsUpdate (the PetscSF refresh of every step) brings each ghost its
+//   - after the owners' bodies change, ParticlesGhostsUpdate (the PetscSF refresh of every step) brings each ghost its
 //     owner's new body, bit for bit.
 // Positions within 1e-9 of the domain size of a face or a face +- h are redrawn, so that the brute force and the
 // code never disagree by a rounding. Prints one line per check and exits nonzero on the first failure.
 #include "component_common.hpp"
 #include "dem_scene.hpp"
 
-#include "../../src/particles/dem_impl.hpp"
+#include "../../src/contact/dem_impl.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
 #include "fluidbed/particles.hpp"
@@ -37,12 +37,12 @@ static const char help[] = "Ghost sets against a brute-force search (-count N pa
 
 namespace {
 
-constexpr int kBodyReals = (int)(sizeof(ContactBody) / sizeof(PetscReal));
+constexpr int kBodyReals = (int)(sizeof(ParticleBody) / sizeof(PetscReal));
 
 struct Owned {
-  PetscInt64  id;
-  PetscMPIInt rank;
-  ContactBody body;
+  PetscInt64   id;
+  PetscMPIInt  rank;
+  ParticleBody body;
 };
 
 // The global faces of the process grid along each axis (domain faces included).
@@ -244,7 +244,7 @@ PetscErrorCode CheckGhosts(MPI_Comm comm, const Domain &dom, const ParticleGrid 
       ++extra;
       continue;
     }
-    if (std::memcmp(&dem.bodies[(std::size_t)(nlocal + g)], &it->second->body, sizeof(ContactBody))) ++wrong_body;
+    if (std::memcmp(&dem.bodies[(std::size_t)(nlocal + g)], &it->second->body, sizeof(ParticleBody))) ++wrong_body;
   }
   for (const auto &e : expected)
     if (!received.count(e.first)) ++missing;
@@ -281,7 +281,7 @@ PetscErrorCode CheckGhosts(MPI_Comm comm, const Domain &dom, const ParticleGrid 
   PetscFunctionReturn(0);
 }
 
-// After DemGhostsUpdate: each ghost (the same set as before) holds its owner's current body, bit for bit.
+// After ParticlesGhostsUpdate: each ghost (the same set as before) holds its owner's current body, bit for bit.
 PetscErrorCode CheckRefresh(MPI_Comm comm, Dem &dem, const std::vector<PetscInt64> &ids_before)
 {
   const GhostExchange        &gx     = dem.ghosts;
@@ -294,7 +294,7 @@ PetscErrorCode CheckRefresh(MPI_Comm comm, Dem &dem, const std::vector<PetscInt6
   for (PetscInt g = 0; g < gx.n; ++g) {
     const auto it = all.find(gx.id[(std::size_t)g]);
     if (gx.id[(std::size_t)g] != ids_before[(std::size_t)g] || it == all.end()) ++changed;
-    else if (std::memcmp(&dem.bodies[(std::size_t)(nlocal + g)], &it->second.body, sizeof(ContactBody))) ++wrong;
+    else if (std::memcmp(&dem.bodies[(std::size_t)(nlocal + g)], &it->second.body, sizeof(ParticleBody))) ++wrong;
   }
   PetscCall(Check(comm, changed == 0, "the update keeps the ghosts and their order (changed)", changed));
   PetscCall(Check(comm, wrong == 0, "each ghost holds its owner's new body, bit for bit (wrong)", wrong));
@@ -310,7 +310,7 @@ PetscErrorCode ChangeBodies(Dem *dem)
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(dem->swarm, field::id, NULL, NULL, (void **)&ids));
   for (PetscInt i = 0; i < nlocal; ++i) {
-    ContactBody    &b = dem->bodies[(std::size_t)i];
+    ParticleBody   &b = dem->bodies[(std::size_t)i];
     const PetscReal s = std::sin((double)ids[i]);
     b.x.x += 1e-5 * s;
     b.x.y -= 2e-5 * s;
@@ -319,7 +319,7 @@ PetscErrorCode ChangeBodies(Dem *dem)
     b.m *= 1.0 + 1e-3 * s;
   }
   PetscCall(DMSwarmRestoreField(dem->swarm, field::id, NULL, NULL, (void **)&ids));
-  PetscCall(DemGhostsUpdate(dem));
+  PetscCall(ParticlesGhostsUpdate(dem));
   PetscFunctionReturn(0);
 }
 
@@ -346,19 +346,19 @@ int main(int argc, char **argv)
 
   // the rebuild's pieces up to the ghosts (DemRebuild without the history sync and the neighbour lists)
   PetscCall(ParticlesGlobalCount(swarm, &before));
-  PetscCall(DemMigrate(dem));
+  PetscCall(ParticlesMigrate(dem));
   PetscCall(ParticlesGlobalCount(swarm, &after));
   {
     PetscInt nlocal;
     PetscCall(DMSwarmGetLocalSize(swarm, &nlocal));
     PetscCall(Check(comm, before == count && after == count, "every placed particle is kept by one rank (count)", (long long)nlocal));
   }
-  PetscCall(DemSortLocal(dem));
-  PetscCall(DemPackBodies(dem));
-  PetscCall(DemGhostsBuild(dem));
+  PetscCall(ParticlesSortLocal(dem));
+  PetscCall(ParticlesPackBodies(dem));
+  PetscCall(ParticlesGhostsBuild(dem));
   PetscCall(CheckGhosts(comm, dom, grids.particle, *dem));
 
-  PetscCall(PetscPrintf(comm, "after the owners' bodies change and DemGhostsUpdate:\n"));
+  PetscCall(PetscPrintf(comm, "after the owners' bodies change and ParticlesGhostsUpdate:\n"));
   {
     const std::vector<PetscInt64> ids = dem->ghosts.id;
     PetscCall(ChangeBodies(dem));

@@ -8,7 +8,7 @@
 //   - each wall within r + skin is in the particle's wall list, and a listed wall is either that near or still
 //     holds a contact history.
 // Prints one line per check and exits nonzero on the first failure (the test driver runs it on 1, 2 and 4 ranks).
-#include "../../src/particles/dem_impl.hpp"
+#include "../../src/contact/dem_impl.hpp"
 #include "component_common.hpp"
 #include "dem_scene.hpp"
 #include "fluidbed/domain.hpp"
@@ -41,7 +41,7 @@ PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std:
   std::vector<PetscReal> mine, flat;
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &b = dem.bodies[(std::size_t)i];
+    const ParticleBody &b = dem.bodies[(std::size_t)i];
     mine.insert(mine.end(), {(PetscReal)dem.body_id[(std::size_t)i], b.x.x, b.x.y, b.x.z, b.r});
   }
   PetscCall(AllGather(comm, MPIU_REAL, mine, &flat));
@@ -129,8 +129,8 @@ PetscErrorCode CheckLists(MPI_Comm comm, const Domain &dom, Dem &dem)
   long long wall_missing = 0, wall_extra = 0;
   PetscCall(ParticleArraysGet(dem.swarm, &p));
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const ContactBody &b = dem.bodies[(std::size_t)i];
-    std::set<PetscInt> listed;
+    const ParticleBody &b = dem.bodies[(std::size_t)i];
+    std::set<PetscInt>  listed;
     for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
       const WallContact &wc = nl.walls[(std::size_t)k];
       listed.insert(wc.face);

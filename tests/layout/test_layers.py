@@ -14,14 +14,19 @@ MODULES = {
     "kernels": (0, ["kernels/"], []),
     "core": (1, ["options.hpp", "phases.hpp", "dmda_field.hpp", "registry.hpp", "files.hpp", "status.hpp"], ["core"]),
     "grids": (2, ["domain.hpp", "grids.hpp"], ["grids"]),
-    "dem": (3, ["particles.hpp", "dem.hpp", "contact_model.hpp"], ["particles", "contact"]),
+    "particles": (3, ["particles.hpp", "particle_motion.hpp", "particle_system.hpp"], ["particles"]),
     "fluid": (3, ["fluid.hpp", "inlets.hpp"], ["fluid"]),
+    "contact": (4, ["dem.hpp", "contact_model.hpp"], ["contact"]),
     "coupling": (4, ["coupling.hpp", "drag_laws.hpp"], ["coupling"]),
     "io": (5, ["io.hpp", "hdf5io.hpp", "outputs.hpp", "checkpoint_check.hpp"], ["io"]),
     "analysis": (6, ["averaging.hpp", "probes.hpp"], ["analysis"]),
     "guards": (6, ["guards.hpp"], ["guards"]),
     "app": (7, ["simulation.hpp", "scene_model.hpp", "option_report.hpp", "default_scene.inc"], ["app", "main.cpp"]),
 }
+
+# Public headers meant for a few modules only: the particles' motion in full is the DEM's own (particles, and the
+# contact stage that extends it); the modules above see it through particle_motion.hpp and dem.hpp.
+RESTRICTED = {"particle_system.hpp": ["particles", "contact"]}
 
 
 def header_module(name):
@@ -70,6 +75,8 @@ def main():
                     im = header_module(inc)
                     if im is None:
                         errors.append("%s includes fluidbed/%s, which belongs to no module" % (rel, inc))
+                    elif inc in RESTRICTED and mod not in RESTRICTED[inc]:
+                        errors.append("%s (%s) includes fluidbed/%s, which only %s may include" % (rel, mod, inc, " and ".join(RESTRICTED[inc])))
                     elif im != mod and MODULES[im][0] >= layer:
                         errors.append("%s (%s, layer %d) includes fluidbed/%s (%s, layer %d): includes must run down the layers" %
                                       (rel, mod, layer, inc, im, MODULES[im][0]))

@@ -1,11 +1,10 @@
-// The DEM's own state, private to the particles and contact sources (src/particles, src/contact) and the component
-// tests of their pieces: the bodies of locals and ghosts, the neighbour lists with the contacts' histories between
-// rebuilds, the ghost exchange, and the pieces of the step.
+// The DEM's own state, private to the contact stage (src/contact) and the component tests of its pieces: the
+// particles' motion (fluidbed/particle_system.hpp) extended with the contact model, the neighbour lists with the
+// contacts' histories between rebuilds, and the pieces of the contact step.
 #pragma once
 
 #include "fluidbed/dem.hpp"
-
-#include <petscsf.h>
+#include "fluidbed/particle_system.hpp"
 
 #include <vector>
 
@@ -64,50 +63,15 @@ struct NeighbourList {
   const PetscReal       *WallHistory(PetscInt k) const { return &wall_hist[(std::size_t)(hs * k)]; }
 };
 
-// Ghost particles of the 26 (3D) or 8 (2D) neighbouring subdomains, periodic images included. Built at each
-// rebuild by sending copies through a BASIC ghost swarm with DMSwarmMigrate; refreshed every step through a
-// PetscSF from the owners' bodies.
-struct GhostExchange {
-  DM                      swarm = nullptr;
-  PetscSF                 sf    = nullptr;
-  MPI_Datatype            body_type{};
-  PetscInt                n = 0;
-  std::vector<PetscInt64> id;    // ghost ids
-  std::vector<PetscReal>  shift; // 3 per ghost: periodic image offset applied for binning
-};
-
-struct Dem {
-  DemParams            par;
-  ContactModel         contact; // the model -dem_contact_model names
-  const Domain        *dom   = nullptr;
-  const ParticleGrid  *pgrid = nullptr;
-  const ParticleProps *props = nullptr;
-  PhaseLog            *log   = nullptr;
-  DM                   swarm = nullptr;
-
-  PetscReal                        halo              = 0;   // ghost layer width, 2 r_max + skin (m)
-  PetscReal                        skin              = 0;   // m
-  PetscReal                        body_force_factor = 1.0; // gravity scale: 1 - rho_g / rho_p with buoyancy (Model B)
-  std::vector<ContactBody>         bodies;
-  std::vector<PetscInt64>          body_id;
-  std::vector<PetscReal>           x_ref;   // positions at the last rebuild, 3 per local particle
-  std::vector<PetscReal>           impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
+// The DEM: the particles' motion and, on top of it, the contact stage.
+struct Dem : ParticleSystem {
+  DemParams                        par;
+  ContactModel                     contact; // the model -dem_contact_model names
   NeighbourList                    nl;
   std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); zero when the pair is apart
-  GhostExchange                    ghosts;
-  DemStats                         stats;
-  DemExternalForce                 external     = nullptr;
-  void                            *external_ctx = nullptr;
 };
 
-// Pieces of the step (src/particles, src/contact), exposed for tests and the coupled solver.
-PetscErrorCode DemMigrate(Dem *dem);
-PetscErrorCode DemSortLocal(Dem *dem);                                         // orders the local particles' storage by neighbour bin
-PetscErrorCode ParticlesPermute(DM swarm, const std::vector<PetscInt> &order); // new[k] = old[order[k]], every field
-PetscErrorCode DemPackBodies(Dem *dem);
-PetscErrorCode DemGhostsBuild(Dem *dem);
-PetscErrorCode DemGhostsUpdate(Dem *dem);
-PetscErrorCode DemGhostsDestroy(GhostExchange *gx);
+// Pieces of the contact step (src/contact), exposed for tests and the coupled solver.
 PetscErrorCode DemNeighbourBuild(Dem *dem);
 // The contact model's forces (ContactModel::forces), then the external forces (drag).
 PetscErrorCode DemContactForces(Dem *dem);
@@ -115,7 +79,5 @@ PetscErrorCode DemContactForces(Dem *dem);
 // it in that particle's swarm slot and (negated) in a local partner's. Called before particles migrate and before
 // a checkpoint.
 PetscErrorCode DemSyncPairHistory(Dem *dem);
-PetscErrorCode DemKickDrift(Dem *dem, PetscBool *need_rebuild);
-PetscErrorCode DemKick(Dem *dem);
 
 } // namespace fluidbed

@@ -1,4 +1,5 @@
-// The DEM step: kick-drift, (rebuild: migrate, ghosts, lists), ghost refresh, contact forces, kick.
+// The DEM step: the particles' motion (src/particles: kick-drift, rebuild: migrate, ghosts; ghost refresh; kick) around
+// the contact stage (neighbour lists, contact forces).
 #include "dem_impl.hpp"
 
 namespace fluidbed {
@@ -10,12 +11,12 @@ PetscErrorCode Rebuild(Dem *dem)
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(dem->log, PHASE_MIGRATE));
   PetscCall(DemSyncPairHistory(dem));
-  PetscCall(DemMigrate(dem));
-  PetscCall(DemSortLocal(dem));
+  PetscCall(ParticlesMigrate(dem));
+  PetscCall(ParticlesSortLocal(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_MIGRATE));
   PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
-  PetscCall(DemPackBodies(dem));
-  PetscCall(DemGhostsBuild(dem));
+  PetscCall(ParticlesPackBodies(dem));
+  PetscCall(ParticlesGhostsBuild(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_GHOSTS));
   PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
   PetscCall(DemNeighbourBuild(dem));
@@ -37,33 +38,9 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
   Dem *d = new Dem;
 
   PetscFunctionBeginUser;
-  d->dom   = &dom;
-  d->pgrid = &pgrid;
-  d->props = &props;
-  d->log   = log;
   PetscCall(DemParamsSetFromOptions(comm, dom, props, &d->par));
   PetscCall(ContactModelGet(d->par.contact_model, &d->contact));
-  d->skin = d->par.skin * props.d_max;
-  d->halo = props.d_max + d->skin;
-  for (int a = 0; a < dom.dim; ++a)
-    PetscCheck(!dom.periodic[a] || dom.len[a] >= 2.0 * d->halo, comm, PETSC_ERR_USER_INPUT,
-               "periodic length %.6g m along axis %d is shorter than two contact cutoffs (%.6g m): enlarge the domain", (double)dom.len[a],
-               a, (double)(2.0 * d->halo));
-  // Ghosts go to the neighbouring subdomains only (ghosts.cpp): a subdomain narrower than the ghost layer would let
-  // a pair within the neighbour-list cutoff straddle it unseen, and its contact be missed.
-  for (int a = 0; a < dom.dim; ++a)
-    for (PetscInt r = 0; r < pgrid.procs[a] && pgrid.procs[a] > 1; ++r) {
-      const PetscInt  cells = pgrid.start[a][(std::size_t)r + 1] - pgrid.start[a][(std::size_t)r];
-      const PetscReal width = cells * pgrid.h[a];
-      PetscCheck(
-        width >= d->halo, comm, PETSC_ERR_USER_INPUT,
-        "the subdomain of process %d of %d along %c is %.6g m wide (%d particle cells), narrower than the ghost layer d_max + skin "
-        "= %.6g m: ghosts reach the neighbouring subdomains only, and contacts across it would be missed; use fewer ranks along %c "
-        "(-pgrid_processors), larger particle cells (-pgrid_cell_diameters, -pgrid_ratio) or a smaller -dem_skin",
-        (int)r, (int)pgrid.procs[a], "xyz"[a], (double)width, (int)cells, (double)d -> halo, "xyz"[a]);
-    }
-  PetscCallMPI(MPI_Type_contiguous((int)(sizeof(ContactBody) / sizeof(PetscReal)), MPIU_REAL, &d->ghosts.body_type));
-  PetscCallMPI(MPI_Type_commit(&d->ghosts.body_type));
+  PetscCall(ParticleSystemSetUp(comm, dom, pgrid, props, log, d->par.dt, d->par.pseudo2d, d->par.skin * props.d_max, d));
   *dem = d;
   PetscFunctionReturn(0);
 }
@@ -94,7 +71,7 @@ PetscErrorCode DemStep(Dem *dem)
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(dem->log, PHASE_INTEGRATE));
-  PetscCall(DemKickDrift(dem, &local[0]));
+  PetscCall(ParticlesKickDrift(dem, &local[0]));
   PetscCall(PhaseEnd(dem->log, PHASE_INTEGRATE));
 
   PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
@@ -110,8 +87,8 @@ PetscErrorCode DemStep(Dem *dem)
   if (any[0]) PetscCall(Rebuild(dem));
   else {
     PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
-    PetscCall(DemPackBodies(dem));
-    PetscCall(DemGhostsUpdate(dem));
+    PetscCall(ParticlesPackBodies(dem));
+    PetscCall(ParticlesGhostsUpdate(dem));
     PetscCall(PhaseEnd(dem->log, PHASE_GHOSTS));
   }
 
@@ -120,7 +97,7 @@ PetscErrorCode DemStep(Dem *dem)
   PetscCall(PhaseEnd(dem->log, PHASE_CONTACT));
 
   PetscCall(PhaseBegin(dem->log, PHASE_INTEGRATE));
-  PetscCall(DemKick(dem));
+  PetscCall(ParticlesKick(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_INTEGRATE));
   PetscFunctionReturn(0);
 }
@@ -129,8 +106,7 @@ PetscErrorCode DemDestroy(Dem **dem)
 {
   PetscFunctionBeginUser;
   if (!*dem) PetscFunctionReturn(0);
-  PetscCall(DemGhostsDestroy(&(*dem)->ghosts));
-  PetscCallMPI(MPI_Type_free(&(*dem)->ghosts.body_type));
+  PetscCall(ParticleSystemFinalize(*dem));
   delete *dem;
   *dem = nullptr;
   PetscFunctionReturn(0);
@@ -164,14 +140,9 @@ PetscInt DemGhostCount(const Dem *dem)
 {
   return dem->ghosts.n;
 }
-void DemSetExternalForce(Dem *dem, DemExternalForce force, void *ctx)
+ParticleSystem *DemGetParticles(Dem *dem)
 {
-  dem->external     = force;
-  dem->external_ctx = ctx;
-}
-void DemSetBodyForceFactor(Dem *dem, PetscReal factor)
-{
-  dem->body_force_factor = factor;
+  return dem;
 }
 
 } // namespace fluidbed
