@@ -6,7 +6,8 @@
 
 namespace fluidbed {
 
-// Root attribute that only checkpoints carry (SimulationWriteCheckpoint), with the format version as value.
+// Root attribute that only checkpoints carry (the checkpoints output, src/app/checkpoint.cpp), with the format version
+// as value.
 inline constexpr const char kCheckpointMarker[] = "fluidbed_checkpoint";
 inline constexpr PetscInt   kCheckpointFormat   = 1;
 

@@ -1,6 +1,6 @@
-// Run outputs: the monitor CSV of global quantities, tracked particles and the final particle table (the checked
-// writes and the JSON writer they go through: fluidbed/files.hpp). Rank 0 writes the text files; the data are
-// reduced or gathered first.
+// Run outputs: the monitor CSV of global quantities, and the outputs of the list (fluidbed/outputs.hpp) for the
+// tracked particles and the final tables (the checked writes and the JSON writer they go through:
+// fluidbed/files.hpp). Rank 0 writes the text files; the data are reduced or gathered first.
 #pragma once
 
 #include <petscsys.h>
@@ -25,26 +25,32 @@ struct ParticleTotals {
 };
 PetscErrorCode ComputeParticleTotals(Dem *dem, ParticleTotals *t);
 
+// monitor.csv: a row of step, time and every output's columns (OutputListValues) every -monitor_dt.
 struct Monitor {
-  OutputFile                 csv, track; // track: open only with -monitor_track_ids
-  std::vector<PetscInt64>    track_ids;
-  PetscInt                   track_every = 1;
+  OutputFile                 csv;
   PetscReal                  interval = 0, next = 0;
   std::vector<MonitorColumn> columns;            // after step and time: the outputs' (OutputListColumns), set before MonitorCreate
   PetscInt64                 last_row_step = -1; // the step of the last row written
 };
 
-// append: continue the files of a restarted run instead of starting them anew, dropping first the rows after
-// last_step (the checkpoint's step: rows written after it by the run that is continued).
+// append: continue the file of a restarted run instead of starting it anew, dropping first the rows after last_step
+// (the checkpoint's step: rows written after it by the run that is continued).
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, PetscInt64 last_step, Monitor *m);
 // One row: step, time and the values of m->columns (OutputListValues).
 PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, PetscInt64 step, PetscReal time, const std::vector<PetscReal> &values);
-PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time);
-// Closes monitor.csv and track.csv at the end of a run, checked (collective).
+// Closes monitor.csv at the end of a run, checked (collective).
 PetscErrorCode MonitorClose(MPI_Comm comm, Monitor *m);
 PetscErrorCode MonitorDestroy(Monitor *m);
 
+// The tracked particles as an output: a row of track.csv per particle of -monitor_track_ids every
+// -monitor_track_every steps (Step), continued after the checkpoint's step on a restart (Start); none without the
+// option.
+PetscErrorCode ParticleTrackCreate(const RunView &run, std::unique_ptr<Output> *out);
+
 // particles.csv sorted by id: id,d,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz (readable by -insert_type file).
 PetscErrorCode WriteParticlesCSV(DM swarm, const char *path);
+// The final tables as an output: at the end of a run that no guard stopped (Finalize), particles.csv (with particles
+// and `particles`, -output_particles) and fluid_cells.csv (with the gas and -fluid_output_cells); none when neither.
+PetscErrorCode FinalTablesCreate(const RunView &run, PetscBool particles, std::unique_ptr<Output> *out);
 
 } // namespace fluidbed

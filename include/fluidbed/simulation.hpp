@@ -29,11 +29,11 @@ struct RunControl {
   PetscBool particles                      = PETSC_TRUE;  // -particles: the DEM
 };
 
-// HDF5 snapshots every -output_interval (the snapshot series output), checkpoints every -checkpoint_interval,
-// -restart FILE.
+// HDF5 snapshots every -output_interval (the snapshot series output), checkpoints every -checkpoint_interval (the
+// checkpoints output), -restart FILE.
 struct OutputSchedule {
-  PetscReal interval            = 0; // snapshots, s (0: none)
-  PetscReal checkpoint_interval = 0, next_checkpoint = 0;
+  PetscReal interval                            = 0; // snapshots, s (0: none)
+  PetscReal checkpoint_interval                 = 0; // s (0: none)
   char      checkpoint_file[PETSC_MAX_PATH_LEN] = "";
   char      restart[PETSC_MAX_PATH_LEN]         = "";
 };
@@ -52,7 +52,7 @@ struct Simulation {
   DM              swarm    = nullptr;
   Fluid          *fluid    = nullptr;
   Coupling       *coupling = nullptr;  // particles and gas both on
-  OutputList      outputs;             // monitor.csv's columns, the analyses, the snapshots: registered by SimulationAddOutputs
+  OutputList      outputs;             // every output of the run (outputs.hpp): registered by SimulationAddOutputs
   const Output   *averages = nullptr;  // -average: the time averages in outputs (NULL when off), whose schedule the scene model reports
   ParticleTotals  totals;              // the particle columns of the last monitor row (summary.json, the closing line)
   Guards         *guards    = nullptr; // -guard_*: run-time checks that stop a run gone wrong
@@ -94,20 +94,28 @@ RunView SimulationView(const Simulation *sim);
 // module exists, before a restart's checkpoint is read.
 PetscErrorCode SimulationAddOutputs(Simulation *sim);
 
-// The output schedule: checkpoints and restart (src/app/checkpoint.cpp).
+// The output schedule's options: snapshots, checkpoints and restart (src/app/checkpoint.cpp).
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim);
 // Clears the output directory before the run writes (after the inputs are read): a fresh run removes the files of a
 // previous run (RemovePreviousRun); a restart, the files its outputs wrote after the checkpoint (Output::RemoveStale:
 // the snapshots).
 PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim);
-PetscErrorCode SimulationWriteCheckpoint(Simulation *sim);
-PetscErrorCode SimulationReadCheckpoint(Simulation *sim);
-// Writes what is due at the current time (every output's Step, then a checkpoint); `last` forces a final checkpoint.
-// The guards are checked before a checkpoint is written, so that every checkpoint holds a state that passed them.
-PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last);
-// The diagnostic snapshot of a run a guard stopped (src/app/diagnostic.cpp): guard_failure.h5 with the particles
-// and gas as in a snapshot plus a "flagged" field (1 on the particles and gas cells the guard names), and
-// guard_failure.xmf for ParaView.
-PetscErrorCode SimulationWriteDiagnostic(Simulation *sim, const GuardTrip *trip);
+
+// The application's outputs (outputs.hpp), each holding the run; SimulationAddOutputs registers them.
+// The guards' verdict, summary.json's first entries ("status", GuardsAddSummary), and the diagnostic snapshot of a
+// run a guard stopped (Stopped): guard_failure.h5 with the particles and gas as in a snapshot plus a "flagged" field
+// (1 on the particles and gas cells the guard names), and guard_failure.xmf for ParaView (src/app/diagnostic.cpp).
+PetscErrorCode GuardReportCreate(Simulation *sim, std::unique_ptr<Output> *out);
+// The run's own summary entries: steps, time, ranks, the decomposition, the wall times and phases (src/app/summary.cpp).
+PetscErrorCode RunEntriesCreate(Simulation *sim, std::unique_ptr<Output> *out);
+// The scene's summary entries: what it models (SceneModelAddSummary) and the options without effect (src/app/summary.cpp).
+PetscErrorCode SceneEntriesCreate(Simulation *sim, std::unique_ptr<Output> *out);
+// summary.json at the end of every run (End): every output's AddSummary in order, "status" first (src/app/summary.cpp).
+PetscErrorCode SummaryFileCreate(Simulation *sim, std::unique_ptr<Output> *out);
+// The checkpoints (src/app/checkpoint.cpp): at a Step when -checkpoint_interval is due, and at the last step when
+// it is set, the guards are checked and, when they pass, the checkpoint is written atomically with the run's own state
+// and every output's CheckpointWrite; Restart reads -restart back (the run's state, then every output's
+// CheckpointRead). Register it after every output with a Step: the checkpoint then holds what they wrote at its step.
+PetscErrorCode CheckpointsCreate(Simulation *sim, std::unique_ptr<Output> *out);
 
 } // namespace fluidbed

@@ -1,5 +1,6 @@
-// The run's output schedule: checkpoints written atomically, each with the run's state and every output's part of it,
-// restart from one, the clean-up of the output directory, and the outputs due at every output step.
+// The checkpoints as an output of the run (include/fluidbed/outputs.hpp): the schedule, each checkpoint written
+// atomically with the run's state and every output's part of it, and the restart from one; with the output schedule's
+// options and the clean-up of the output directory.
 #include "fluidbed/checkpoint_check.hpp"
 #include "fluidbed/options.hpp"
 #include "fluidbed/simulation.hpp"
@@ -146,6 +147,175 @@ PetscErrorCode CheckScene(const Simulation *sim, PetscViewer viewer, const char 
   }
   PetscFunctionReturn(0);
 }
+
+// Every -checkpoint_interval of simulated time and at the last step (when it is set), after every other output's Step
+// of the step (registered after them): the guards are checked first, so that every checkpoint holds a state that
+// passed them, since it is what a rescue continues from. Restart reads -restart back.
+class Checkpoints final : public Output {
+public:
+  explicit Checkpoints(Simulation *sim) : sim_(sim), next_(sim->output.checkpoint_interval) {}
+  const char *Name() const override { return "checkpoints"; }
+
+  PetscErrorCode Step(const RunView &run) override
+  {
+    const PetscReal interval = sim_->output.checkpoint_interval, eps = 0.5 * run.dt;
+
+    PetscFunctionBeginUser;
+    if (interval <= 0) PetscFunctionReturn(0);
+    const PetscBool due = (PetscBool)(sim_->dem ? run.step >= StepAtTime(sim_, next_) : run.time >= next_ - eps);
+    if (!due && !run.last) PetscFunctionReturn(0);
+    PetscCall(GuardsCheckParticles(sim_->guards, run.step, run.time, PETSC_TRUE));
+    if (GuardsStopped(sim_->guards)) PetscFunctionReturn(0);
+    while (next_ <= run.time + eps) next_ += interval;
+    PetscCall(Write());
+    PetscFunctionReturn(0);
+  }
+
+  // The schedule: the time of the next checkpoint.
+  PetscErrorCode CheckpointWrite(const RunView &, PetscViewer viewer) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &next_));
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode CheckpointRead(const RunView &, PetscViewer viewer) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &next_));
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode Restart(const RunView &) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(Read());
+    PetscFunctionReturn(0);
+  }
+
+private:
+  // The checkpoint file: the run's own state, then every output's part.
+  PetscErrorCode Write()
+  {
+    Simulation *sim = sim_;
+    PetscMPIInt size;
+
+    PetscFunctionBeginUser;
+    PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+    // Migration, contact-history sync and neighbour lists now, as a restart does when it loads the checkpoint: both
+    // runs then continue from the same ownership of particles by ranks (the coupling's cell sums depend on it).
+    if (sim->dem) PetscCall(DemRebuild(sim->dem));
+    const RunView run = SimulationView(sim);
+    PetscInt64    bytes;
+    PetscCall(StateHDF5Bytes(sim->swarm, sim->fluid, PETSC_TRUE, &bytes));
+    PetscCall(WriteHDF5File(sim->comm, sim->output.checkpoint_file, bytes, [&](PetscViewer viewer) {
+      PetscFunctionBeginUser;
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", kCheckpointMarker, PETSC_INT, &kCheckpointFormat)); // snapshots have none
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
+      PetscCall(WriteCount(viewer, "step", sim->step));
+      if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &DemGetParams(sim->dem).dt));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
+      if (sim->dem) {
+        PetscCall(WriteCount(viewer, "particles_outlet", DemGetStats(sim->dem)->outlet_removed));
+        PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
+        PetscCall(WriteCount(viewer, "particles_lost", DemGetStats(sim->dem)->lost.count));
+        PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &DemGetParams(sim->dem).dt_factor));
+      }
+      PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
+      const PetscInt substeps = sim->coupling ? CouplingSubsteps(sim->coupling) : 1;
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &substeps));
+      PetscCall(WriteScene(sim, viewer));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
+      if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
+      if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
+      if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
+      PetscCall(OutputListCheckpointWrite(sim->outputs, run, viewer)); // the schedule, the snapshot series, the averages, ...
+      PetscFunctionReturn(0);
+    }));
+    PetscFunctionReturn(0);
+  }
+
+  // -restart: the run's own state first, then every output's part (which sees the run at the checkpoint).
+  PetscErrorCode Read()
+  {
+    Simulation     *sim = sim_;
+    OutputSchedule &o   = sim->output;
+    PetscViewer     viewer;
+    PetscInt        dim;
+    PetscReal       dt;
+
+    PetscFunctionBeginUser;
+    PetscCall(CheckpointValidate(sim->comm, o.restart)); // a wrong file gives one line, not HDF5's error stack
+    PetscCall(PetscViewerHDF5Open(sim->comm, o.restart, FILE_MODE_READ, &viewer));
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
+    PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart,
+               (int)dim, (int)sim->domain.dim);
+    PetscBool has_scene, has, new_dt = PETSC_FALSE;
+    // what the checkpoint simulates first, then the scene of what it holds
+    PetscCall(HasAttribute(viewer, "dt", &has));
+    PetscCheck(!sim->dem || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
+    PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
+    PetscCheck(!sim->fluid || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on",
+               o.restart);
+    PetscCall(CheckScene(sim, viewer, o.restart, &has_scene));
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
+    PetscCall(ReadCount(viewer, "step", &sim->step));
+    PetscCall(HasAttribute(viewer, "step_origin", &has));
+    if (has) {
+      PetscCall(ReadCount(viewer, "step_origin", &sim->step_origin));
+      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time_origin", PETSC_REAL, NULL, &sim->time_origin));
+    }
+    if (sim->dem) {
+      PetscBool has_dt;
+      PetscCall(HasAttribute(viewer, "dt", &has_dt));
+      PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
+      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
+      new_dt = (PetscBool)(PetscAbsReal(dt - DemGetParams(sim->dem).dt) > 1e-12 * dt);
+      // a checkpoint that does not record its scene cannot tell a new time step from new physics
+      PetscCheck(!new_dt || has_scene, sim->comm, PETSC_ERR_USER_INPUT,
+                 "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
+                 o.restart, (double)dt, (double)DemGetParams(sim->dem).dt);
+      if (new_dt) {
+        // a rescue with another -dem_dt_factor: the steps count on from the checkpoint with the new length
+        PetscReal factor = 0;
+        PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, NULL, &factor));
+        sim->step_origin = sim->step;
+        sim->time_origin = sim->time;
+        PetscCall(PetscPrintf(sim->comm, "Restart with a new time step: dt %.6g s -> %.6g s (-dem_dt_factor %.6g -> %.6g)\n", (double)dt,
+                              (double)DemGetParams(sim->dem).dt, (double)factor, (double)DemGetParams(sim->dem).dt_factor));
+      }
+      PetscCall(ReadCount(viewer, "particles_outlet", &DemGetStats(sim->dem)->outlet_removed));
+      PetscCall(HasAttribute(viewer, "particles_lost", &has));
+      if (has) PetscCall(ReadCount(viewer, "particles_lost", &DemGetStats(sim->dem)->lost.count));
+    }
+    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
+    if (sim->swarm) {
+      PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
+      // inserted = present + left through the outlet + lost, across restarts
+      PetscCall(HasAttribute(viewer, "particles_inserted", &has));
+      if (has) PetscCall(ReadCount(viewer, "particles_inserted", &sim->inserted.count));
+      else {
+        PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
+        sim->inserted.count += DemGetStats(sim->dem)->outlet_removed;
+      }
+    }
+    if (sim->fluid) {
+      PetscBool has;
+      PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
+      PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
+      PetscCall(FluidReadHDF5(sim->fluid, viewer));
+    }
+    if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
+    PetscCall(OutputListCheckpointRead(sim->outputs, SimulationView(sim), viewer)); // once the run's own state is read
+    PetscCall(PetscViewerDestroy(&viewer));
+    PetscFunctionReturn(0);
+  }
+
+  Simulation *sim_;
+  PetscReal   next_; // simulated time of the next checkpoint (s)
+};
 } // namespace
 
 PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
@@ -175,124 +345,6 @@ PetscErrorCode OutputScheduleSetFromOptions(Simulation *sim)
   OutputSetReserve(reserve);
   if (!o.checkpoint_file[0])
     PetscCall(PetscSNPrintf(o.checkpoint_file, sizeof(o.checkpoint_file), "%s/%s", sim->run.output_dir, run_files::checkpoint));
-  o.next_checkpoint = o.checkpoint_interval;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SimulationWriteCheckpoint(Simulation *sim)
-{
-  OutputSchedule &o = sim->output;
-  PetscMPIInt     size;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  // Migration, contact-history sync and neighbour lists now, as a restart does when it loads the checkpoint: both
-  // runs then continue from the same ownership of particles by ranks (the coupling's cell sums depend on it).
-  if (sim->dem) PetscCall(DemRebuild(sim->dem));
-  const RunView run = SimulationView(sim);
-  PetscInt64    bytes;
-  PetscCall(StateHDF5Bytes(sim->swarm, sim->fluid, PETSC_TRUE, &bytes));
-  PetscCall(WriteHDF5File(sim->comm, o.checkpoint_file, bytes, [&](PetscViewer viewer) {
-    PetscFunctionBeginUser;
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", kCheckpointMarker, PETSC_INT, &kCheckpointFormat)); // snapshots have none
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time", PETSC_REAL, &sim->time));
-    PetscCall(WriteCount(viewer, "step", sim->step));
-    if (sim->dem) PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dt", PETSC_REAL, &DemGetParams(sim->dem).dt));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dim", PETSC_INT, &sim->domain.dim));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "ranks", PETSC_INT, &size));
-    if (sim->dem) {
-      PetscCall(WriteCount(viewer, "particles_outlet", DemGetStats(sim->dem)->outlet_removed));
-      PetscCall(WriteCount(viewer, "particles_inserted", sim->inserted.count));
-      PetscCall(WriteCount(viewer, "particles_lost", DemGetStats(sim->dem)->lost.count));
-      PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, &DemGetParams(sim->dem).dt_factor));
-    }
-    PetscCall(WriteCount(viewer, "step_origin", sim->step_origin));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "time_origin", PETSC_REAL, &sim->time_origin));
-    const PetscInt substeps = sim->coupling ? CouplingSubsteps(sim->coupling) : 1;
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "couple_substeps", PETSC_INT, &substeps));
-    PetscCall(WriteScene(sim, viewer));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "monitor_next", PETSC_REAL, &sim->monitor.next));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, &o.next_checkpoint));
-    if (sim->swarm) PetscCall(ParticlesWriteHDF5(sim->swarm, viewer, PETSC_TRUE));
-    if (sim->fluid) PetscCall(FluidWriteHDF5(sim->fluid, viewer, PETSC_TRUE));
-    if (sim->coupling) PetscCall(CouplingWriteHDF5(sim->coupling, viewer));
-    PetscCall(OutputListCheckpointWrite(sim->outputs, run, viewer)); // the snapshot series, the averages, ...
-    PetscFunctionReturn(0);
-  }));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SimulationReadCheckpoint(Simulation *sim)
-{
-  OutputSchedule &o = sim->output;
-  PetscViewer     viewer;
-  PetscInt        dim;
-  PetscReal       dt;
-
-  PetscFunctionBeginUser;
-  PetscCall(CheckpointValidate(sim->comm, o.restart)); // a wrong file gives one line, not HDF5's error stack
-  PetscCall(PetscViewerHDF5Open(sim->comm, o.restart, FILE_MODE_READ, &viewer));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dim", PETSC_INT, NULL, &dim));
-  PetscCheck(dim == sim->domain.dim, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds a %dD run; -domain_dim is %d", o.restart, (int)dim,
-             (int)sim->domain.dim);
-  PetscBool has_scene, has, new_dt = PETSC_FALSE;
-  // what the checkpoint simulates first, then the scene of what it holds
-  PetscCall(HasAttribute(viewer, "dt", &has));
-  PetscCheck(!sim->dem || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
-  PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
-  PetscCheck(!sim->fluid || has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
-  PetscCall(CheckScene(sim, viewer, o.restart, &has_scene));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time", PETSC_REAL, NULL, &sim->time));
-  PetscCall(ReadCount(viewer, "step", &sim->step));
-  PetscCall(HasAttribute(viewer, "step_origin", &has));
-  if (has) {
-    PetscCall(ReadCount(viewer, "step_origin", &sim->step_origin));
-    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "time_origin", PETSC_REAL, NULL, &sim->time_origin));
-  }
-  if (sim->dem) {
-    PetscBool has_dt;
-    PetscCall(HasAttribute(viewer, "dt", &has_dt));
-    PetscCheck(has_dt, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no particles; the options turn them on", o.restart);
-    PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dt", PETSC_REAL, NULL, &dt));
-    new_dt = (PetscBool)(PetscAbsReal(dt - DemGetParams(sim->dem).dt) > 1e-12 * dt);
-    // a checkpoint that does not record its scene cannot tell a new time step from new physics
-    PetscCheck(!new_dt || has_scene, sim->comm, PETSC_ERR_USER_INPUT,
-               "-restart %s was run with dt = %.10g s, the options give %.10g s: restart with the same particle and contact options",
-               o.restart, (double)dt, (double)DemGetParams(sim->dem).dt);
-    if (new_dt) {
-      // a rescue with another -dem_dt_factor: the steps count on from the checkpoint with the new length
-      PetscReal factor = 0;
-      PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "dem_dt_factor", PETSC_REAL, NULL, &factor));
-      sim->step_origin = sim->step;
-      sim->time_origin = sim->time;
-      PetscCall(PetscPrintf(sim->comm, "Restart with a new time step: dt %.6g s -> %.6g s (-dem_dt_factor %.6g -> %.6g)\n", (double)dt,
-                            (double)DemGetParams(sim->dem).dt, (double)factor, (double)DemGetParams(sim->dem).dt_factor));
-    }
-    PetscCall(ReadCount(viewer, "particles_outlet", &DemGetStats(sim->dem)->outlet_removed));
-    PetscCall(HasAttribute(viewer, "particles_lost", &has));
-    if (has) PetscCall(ReadCount(viewer, "particles_lost", &DemGetStats(sim->dem)->lost.count));
-  }
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "monitor_next", PETSC_REAL, NULL, &sim->monitor.next));
-  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/", "checkpoint_next", PETSC_REAL, NULL, &o.next_checkpoint));
-  if (sim->swarm) {
-    PetscCall(ParticlesReadHDF5(sim->swarm, viewer, sim->domain, sim->grids.particle));
-    // inserted = present + left through the outlet + lost, across restarts
-    PetscCall(HasAttribute(viewer, "particles_inserted", &has));
-    if (has) PetscCall(ReadCount(viewer, "particles_inserted", &sim->inserted.count));
-    else {
-      PetscCall(ParticlesGlobalCount(sim->swarm, &sim->inserted.count));
-      sim->inserted.count += DemGetStats(sim->dem)->outlet_removed;
-    }
-  }
-  if (sim->fluid) {
-    PetscBool has;
-    PetscCall(PetscViewerHDF5HasGroup(viewer, "/fluid", &has));
-    PetscCheck(has, sim->comm, PETSC_ERR_USER_INPUT, "-restart %s holds no gas state; the options turn the gas on", o.restart);
-    PetscCall(FluidReadHDF5(sim->fluid, viewer));
-  }
-  if (sim->coupling) PetscCall(CouplingReadHDF5(sim->coupling, viewer));
-  PetscCall(OutputListCheckpointRead(sim->outputs, SimulationView(sim), viewer)); // once the run's own state is read
-  PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
 
@@ -310,23 +362,10 @@ PetscErrorCode SimulationRemoveStaleOutput(Simulation *sim)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SimulationOutputStep(Simulation *sim, PetscBool last)
+PetscErrorCode CheckpointsCreate(Simulation *sim, std::unique_ptr<Output> *out)
 {
-  OutputSchedule &o   = sim->output;
-  const RunView   run = SimulationView(sim);
-  const PetscReal eps = 0.5 * run.dt;
-
   PetscFunctionBeginUser;
-  PetscCall(OutputListStep(sim->outputs, run)); // before this step's checkpoint, which then holds its samples
-  const PetscBool checkpoint_due = (PetscBool)(o.checkpoint_interval > 0 && (sim->dem ? sim->step >= StepAtTime(sim, o.next_checkpoint)
-                                                                                      : sim->time >= o.next_checkpoint - eps));
-  if (o.checkpoint_interval > 0 && (checkpoint_due || last)) {
-    // a checkpoint only of a state that passes the guards: it is what a rescue continues from
-    PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, PETSC_TRUE));
-    if (GuardsStopped(sim->guards)) PetscFunctionReturn(0);
-    while (o.next_checkpoint <= sim->time + eps) o.next_checkpoint += o.checkpoint_interval;
-    PetscCall(SimulationWriteCheckpoint(sim));
-  }
+  *out = std::make_unique<Checkpoints>(sim);
   PetscFunctionReturn(0);
 }
 

@@ -1,5 +1,7 @@
-// The outputs of a run, registered in one place (include/fluidbed/outputs.hpp): the run's own monitor.csv columns
-// (the particles, the gas, the coupling), the analyses and the snapshot series; and the view of the run they see.
+// The outputs of a run, registered in one place (include/fluidbed/outputs.hpp): the guards' report, the run's own
+// entries, the monitor.csv columns of the particles, the gas and the coupling (with their summary entries), the tracked
+// particles, the final tables, the analyses, the snapshot series, the checkpoints, the scene's entries and
+// summary.json; and the view of the run they see.
 #include "fluidbed/averaging.hpp"
 #include "fluidbed/probes.hpp"
 #include "fluidbed/simulation.hpp"
@@ -8,10 +10,11 @@ namespace fluidbed {
 
 namespace {
 
-// Global sums over the particles (ComputeParticleTotals); the last row's are kept for the summary.
+// Global sums over the particles (ComputeParticleTotals); the last row's are kept for the summary, with the DEM's
+// time step, counts and speed.
 class ParticleColumns final : public Output {
 public:
-  ParticleColumns(Dem *dem, ParticleTotals *last) : dem_(dem), last_(last) {}
+  explicit ParticleColumns(Simulation *sim) : sim_(sim), dem_(sim->dem), last_(&sim->totals) {}
   const char *Name() const override { return "particles"; }
 
   void Columns(std::vector<MonitorColumn> *columns) const override
@@ -42,9 +45,34 @@ public:
     PetscFunctionReturn(0);
   }
 
+  PetscErrorCode AddSummary(const RunView &, JsonWriter *json) override
+  {
+    const ParticleTotals &t     = *last_;
+    const DemParams      &p     = DemGetParams(dem_);
+    const double          steps = (double)t.count * (double)sim_->steps_run, wall = sim_->wall_run; // particle-steps
+    PetscMPIInt           size;
+
+    PetscFunctionBeginUser;
+    PetscCallMPI(MPI_Comm_size(sim_->comm, &size));
+    json->Number("dt", p.dt);
+    json->Number("t_cr", p.t_cr);
+    json->Number("t_cr_wall", p.t_cr_wall);
+    json->Integer("particles", (long long)t.count);
+    json->Integer("particles_inserted", (long long)sim_->inserted.count);
+    json->Integer("particles_outlet", (long long)DemGetStats(dem_)->outlet_removed);
+    json->Integer("particles_lost", (long long)DemGetStats(dem_)->lost.count); // through a wall or in migration (the escape guard)
+    json->Integer("neighbour_rebuilds", (long long)DemGetStats(dem_)->rebuilds);
+    json->Number("kinetic_energy", t.ke_trans + t.ke_rot);
+    json->Number("contacts_per_particle", t.contacts_per_particle);
+    json->Number("particle_steps_per_second", wall > 0 ? steps / wall : 0.0);
+    json->Number("particle_steps_per_second_per_rank", wall > 0 ? steps / wall / size : 0.0);
+    PetscFunctionReturn(0);
+  }
+
 private:
-  Dem            *dem_;
-  ParticleTotals *last_;
+  const Simulation *sim_;
+  Dem              *dem_;
+  ParticleTotals   *last_;
 };
 
 // The gas's last step and pressure solve (FluidGetStats).
@@ -73,6 +101,14 @@ public:
     PetscFunctionBeginUser;
     values->insert(values->end(), {s.dt, s.max_speed, s.courant, (PetscReal)s.ksp_its, s.ksp_rnorm, s.ksp_time, s.max_div, s.rhs_scale,
                                    s.inflow, s.outflow});
+    PetscFunctionReturn(0);
+  }
+
+  // "fluid": the steps, solves and flows of the whole run (FluidAddSummary).
+  PetscErrorCode AddSummary(const RunView &run, JsonWriter *json) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(FluidAddSummary(run.fluid, json));
     PetscFunctionReturn(0);
   }
 };
@@ -118,21 +154,34 @@ RunView SimulationView(const Simulation *sim)
 
 PetscErrorCode SimulationAddOutputs(Simulation *sim)
 {
-  const RunView run  = SimulationView(sim);
-  OutputList   *list = &sim->outputs;
+  const RunView           run  = SimulationView(sim);
+  OutputList             *list = &sim->outputs;
+  std::unique_ptr<Output> out;
 
   PetscFunctionBeginUser;
-  // monitor.csv's columns from left to right follow this order, and so do the outputs' summary entries and calls
-  if (sim->dem) PetscCall(OutputListAdd(list, std::make_unique<ParticleColumns>(sim->dem, &sim->totals)));
+  // monitor.csv's columns from left to right follow this order, and so do the outputs' summary entries and calls:
+  // the guards' report first ("status" leads summary.json), the checkpoints after every output with a Step (a
+  // checkpoint holds what they wrote at its step), summary.json last (the entries of all)
+  PetscCall(GuardReportCreate(sim, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
+  PetscCall(RunEntriesCreate(sim, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
+  if (sim->dem) PetscCall(OutputListAdd(list, std::make_unique<ParticleColumns>(sim)));
   if (sim->fluid) PetscCall(OutputListAdd(list, std::make_unique<GasColumns>()));
   if (sim->coupling) PetscCall(OutputListAdd(list, std::make_unique<CouplingColumns>(sim->coupling, sim->domain.dim)));
+  PetscCall(OutputListCreate(list, run, ParticleTrackCreate));
+  PetscCall(FinalTablesCreate(run, sim->run.write_particles, &out)); // before the analyses' final files, as they were
+  PetscCall(OutputListAdd(list, std::move(out)));
   PetscCall(OutputListCreate(list, run, GasProbesCreate));
   PetscCall(OutputListCreate(list, run, BedAveragesCreate, &sim->averages));
-  {
-    std::unique_ptr<Output> snapshots;
-    PetscCall(SnapshotSeriesCreate(sim->output.interval, &snapshots));
-    PetscCall(OutputListAdd(list, std::move(snapshots)));
-  }
+  PetscCall(SnapshotSeriesCreate(sim->output.interval, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
+  PetscCall(CheckpointsCreate(sim, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
+  PetscCall(SceneEntriesCreate(sim, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
+  PetscCall(SummaryFileCreate(sim, &out));
+  PetscCall(OutputListAdd(list, std::move(out)));
   PetscFunctionReturn(0);
 }
 

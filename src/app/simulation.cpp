@@ -30,37 +30,6 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
   PetscFunctionReturn(0);
 }
 
-// Per-rank figures of the decomposition at the end of the run (for strong-scaling studies): the process grid, and on
-// each rank the particles, ghost particles, fluid cells and the fluid halo cells it receives.
-PetscErrorCode DecompositionAddSummary(Simulation *sim, JsonWriter *json)
-{
-  const ParticleGrid &pg = sim->grids.particle;
-  PetscMPIInt         size;
-  PetscInt            nlocal  = 0;
-  PetscInt64          mine[4] = {0, 0, 0, 0};
-  JsonWriter          d;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  if (sim->swarm) PetscCall(DMSwarmGetLocalSize(sim->swarm, &nlocal));
-  mine[0] = nlocal;
-  mine[1] = sim->dem ? (PetscInt64)DemGhostCount(sim->dem) : 0;
-  PetscCall(GridsLocalCells(sim->grids, &mine[2], &mine[3]));
-  std::vector<PetscInt64> all(4 * (size_t)size);
-  PetscCallMPI(MPI_Allgather(mine, 4, MPIU_INT64, all.data(), 4, MPIU_INT64, sim->comm));
-  std::vector<long long> col[4];
-  for (PetscMPIInt r = 0; r < size; ++r)
-    for (int k = 0; k < 4; ++k) col[k].push_back((long long)all[4 * (size_t)r + k]);
-  d.IntegerArray("process_grid", {(long long)pg.procs[0], (long long)pg.procs[1], (long long)pg.procs[2]});
-  d.String("layout", pg.layout == GRID_LAYOUT_PETSC ? "petsc" : "horizontal");
-  d.IntegerArray("particles_per_rank", col[0]);
-  d.IntegerArray("ghost_particles_per_rank", col[1]);
-  d.IntegerArray("fluid_cells_per_rank", col[2]);
-  d.IntegerArray("halo_cells_per_rank", col[3]);
-  json->Object("decomposition", d);
-  PetscFunctionReturn(0);
-}
-
 std::string Duration(double s)
 {
   char buf[64];
@@ -68,57 +37,6 @@ std::string Duration(double s)
   else if (s < 7200) snprintf(buf, sizeof(buf), "%.0f min %02.0f s", std::floor(s / 60), std::fmod(s, 60.0));
   else snprintf(buf, sizeof(buf), "%.0f h %02.0f min", std::floor(s / 3600), std::fmod(s / 60, 60.0));
   return buf;
-}
-
-PetscErrorCode WriteSummary(Simulation *sim)
-{
-  const ParticleTotals &tot = sim->totals;
-  PetscMPIInt           size;
-  double                phase_max[PHASE_COUNT];
-  JsonWriter            json, phases;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCallMPI(MPI_Allreduce(sim->log.seconds, phase_max, PHASE_COUNT, MPI_DOUBLE, MPI_MAX, sim->comm));
-  const double psteps = (double)tot.count * (double)sim->steps_run;
-  PetscCall(GuardsAddSummary(sim->guards, &json)); // "status" first: a study script classifies the run by it
-  json.Integer("steps", (long long)sim->step);
-  json.Integer("steps_this_run", (long long)sim->steps_run);
-  json.Number("time", sim->time);
-  if (sim->dem) {
-    json.Number("dt", DemGetParams(sim->dem).dt);
-    json.Number("t_cr", DemGetParams(sim->dem).t_cr);
-    json.Number("t_cr_wall", DemGetParams(sim->dem).t_cr_wall);
-    json.Integer("particles", (long long)tot.count);
-    json.Integer("particles_inserted", (long long)sim->inserted.count);
-    json.Integer("particles_outlet", (long long)DemGetStats(sim->dem)->outlet_removed);
-    json.Integer("particles_lost", (long long)DemGetStats(sim->dem)->lost.count); // through a wall or in migration (the escape guard)
-  }
-  json.Integer("ranks", size);
-  PetscCall(DecompositionAddSummary(sim, &json));
-  if (sim->dem) {
-    json.Integer("neighbour_rebuilds", (long long)DemGetStats(sim->dem)->rebuilds);
-    json.Number("kinetic_energy", tot.ke_trans + tot.ke_rot);
-    json.Number("contacts_per_particle", tot.contacts_per_particle);
-  }
-  if (sim->fluid) PetscCall(FluidAddSummary(sim->fluid, &json));
-  PetscCall(OutputListAddSummary(sim->outputs, SimulationView(sim), &json));
-  SceneModelAddSummary(sim->model, &json);
-  {
-    std::vector<std::string> unused;
-    for (const UnusedOption &u : sim->unused_options) unused.push_back(u.name);
-    json.StringArray("unused_options", unused);
-  }
-  json.Number("wall_time_setup", sim->wall_setup);
-  json.Number("wall_time_run", sim->wall_run);
-  for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
-  json.Object("wall_time_phase_max_over_ranks", phases);
-  if (sim->dem) {
-    json.Number("particle_steps_per_second", sim->wall_run > 0 ? psteps / sim->wall_run : 0.0);
-    json.Number("particle_steps_per_second_per_rank", sim->wall_run > 0 ? psteps / sim->wall_run / size : 0.0);
-  }
-  PetscCall(JsonWrite(sim->comm, (std::string(sim->run.output_dir) + "/" + run_files::summary).c_str(), json));
-  PetscFunctionReturn(0);
 }
 
 } // namespace
@@ -160,12 +78,13 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   PetscCall(MakeDirectory(sim->comm, sim->run.output_dir));
   if (sim->output.checkpoint_interval > 0) PetscCall(CheckFileLocation(sim->comm, sim->output.checkpoint_file, "-checkpoint_file"));
   PetscCall(SimulationAddOutputs(sim));
-  if (restart) PetscCall(SimulationReadCheckpoint(sim));
+  if (restart) PetscCall(OutputListRestart(sim->outputs, SimulationView(sim))); // the checkpoints output reads it
   else if (sim->dem) PetscCall(ParticlesInsert(sim->comm, sim->domain, sim->grids.particle, sim->props, sim->swarm, &sim->inserted));
   // Inputs read, nothing written yet: the output directory is cleared of what would mix with this run's files.
   PetscCall(SimulationRemoveStaleOutput(sim));
   OutputListColumns(sim->outputs, &sim->monitor.columns);
   PetscCall(MonitorCreate(sim->comm, sim->run.output_dir, sim->run.t_final, restart, sim->step, &sim->monitor));
+  PetscCall(OutputListStart(sim->outputs, SimulationView(sim)));
 
   PetscCall(DomainView(sim->domain, viewer));
   PetscCall(GridsView(sim->grids, sim->domain, viewer));
@@ -234,6 +153,18 @@ PetscErrorCode WriteMonitorRow(Simulation *sim)
   PetscFunctionReturn(0);
 }
 
+// What is due at the current time: every output's Step in order, the checkpoint last (it checks the guards first, so
+// that every checkpoint holds a state that passed them); `last` forces a final checkpoint.
+PetscErrorCode OutputStep(Simulation *sim, PetscBool last)
+{
+  RunView run = SimulationView(sim);
+
+  PetscFunctionBeginUser;
+  run.last = last;
+  PetscCall(OutputListStep(sim->outputs, run));
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode SimulationRun(Simulation *sim)
@@ -268,9 +199,8 @@ PetscErrorCode SimulationRun(Simulation *sim)
   PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
   if (!restarted) { // a restart continues the files after the checkpoint's row
     PetscCall(WriteMonitorRow(sim));
-    if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     sim->monitor.next = sim->time + sim->monitor.interval;
-    if (!GuardsStopped(sim->guards)) PetscCall(SimulationOutputStep(sim, PETSC_FALSE));
+    if (!GuardsStopped(sim->guards)) PetscCall(OutputStep(sim, PETSC_FALSE));
   }
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
 
@@ -300,12 +230,11 @@ PetscErrorCode SimulationRun(Simulation *sim)
 
     PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
     const PetscBool last = finished() ? PETSC_TRUE : PETSC_FALSE;
-    if (dem) PetscCall(MonitorTrack(sim->comm, &sim->monitor, dem, sim->step, sim->time));
     if (sim->monitor.interval == 0 || sim->time >= sim->monitor.next - 0.5 * dt || last) {
       PetscCall(WriteMonitorRow(sim));
       while (sim->monitor.next <= sim->time + 0.5 * dt) sim->monitor.next += PetscMax(sim->monitor.interval, dt);
     }
-    PetscCall(SimulationOutputStep(sim, last));
+    PetscCall(OutputStep(sim, last));
     PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
 
     // Progress: rank 0 decides every 64 steps, so that all ranks take the same branch.
@@ -335,9 +264,9 @@ PetscErrorCode SimulationRun(Simulation *sim)
     // The state that failed, for ParaView, and its monitor row; the run's final files are not written from it (the
     // last checkpoint, written before the failure, is the one to continue from).
     if (sim->monitor.last_row_step != sim->step) PetscCall(WriteMonitorRow(sim));
-    PetscCall(SimulationWriteDiagnostic(sim, GuardsStopTrip(sim->guards)));
+    PetscCall(OutputListStopped(sim->outputs, SimulationView(sim))); // the diagnostic
     PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
-    PetscCall(WriteSummary(sim));
+    PetscCall(OutputListEnd(sim->outputs, SimulationView(sim))); // summary.json
     PetscCall(
       PetscPrintf(sim->comm, "Stopped by guard '%s' at step %lld, t = %.6g s (exit status %d): %s/guard_failure.xmf marks where%s\n",
                   GuardNames[GuardsStopTrip(sim->guards)->kind], (long long)sim->step, (double)sim->time, sim->exit_status,
@@ -345,14 +274,10 @@ PetscErrorCode SimulationRun(Simulation *sim)
     PetscCall(UnusedOptionsPrint(sim->comm, sim->unused_options));
     PetscFunctionReturn(0);
   }
-  if (dem && sim->run.write_particles)
-    PetscCall(WriteParticlesCSV(sim->swarm, (std::string(sim->run.output_dir) + "/" + run_files::particles).c_str()));
-  if (sim->fluid && FluidWantsCellsCSV(sim->fluid))
-    PetscCall(FluidWriteCellsCSV(sim->fluid, (std::string(sim->run.output_dir) + "/" + run_files::fluid_cells).c_str()));
-  PetscCall(OutputListFinalize(sim->outputs, SimulationView(sim)));
+  PetscCall(OutputListFinalize(sim->outputs, SimulationView(sim))); // particles.csv, fluid_cells.csv, the analyses' files
   PetscCall(MonitorClose(sim->comm, &sim->monitor));
   PetscCall(PhaseEnd(&sim->log, PHASE_OUTPUT));
-  PetscCall(WriteSummary(sim));
+  PetscCall(OutputListEnd(sim->outputs, SimulationView(sim))); // summary.json, after the final files and their phase
   if (dem)
     PetscCall(PetscPrintf(
       sim->comm,

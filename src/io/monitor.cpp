@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <string>
+#include <utility>
 
 namespace fluidbed {
 
@@ -87,25 +88,15 @@ PetscErrorCode OpenLog(MPI_Comm comm, const std::string &path, PetscBool append,
 
 PetscErrorCode MonitorCreate(MPI_Comm comm, const char *dir, PetscReal t_final, PetscBool append, PetscInt64 last_step, Monitor *m)
 {
-  PetscInt  ids[256], nids = 256;
-  PetscBool set = PETSC_FALSE;
-
   PetscFunctionBeginUser;
   m->interval = t_final / 200.0;
-  PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities and tracked particles", "Output");
+  PetscOptionsBegin(comm, "monitor_", "Monitor: global quantities (monitor.csv)", "Output");
   PetscCall(OptionsReal(PetscOptionsObject, "-dt", "Simulated time between rows of monitor.csv (default t_final / 200; 0: every step)", "s",
                         NonNegative(), &m->interval, NULL));
-  PetscCall(OptionsIntArray(PetscOptionsObject, "-track_ids", "Particle ids whose state goes to track.csv", PETSC_MIN_INT, PETSC_MAX_INT,
-                            ids, &nids, &set));
-  PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &m->track_every, NULL));
   PetscOptionsEnd();
-  if (set) m->track_ids.assign(ids, ids + nids);
   std::string header = "step,time";
   for (const MonitorColumn &c : m->columns) header += "," + c.name;
   PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::monitor, append, last_step, header, &m->csv));
-  if (!m->track_ids.empty())
-    PetscCall(OpenLog(comm, std::string(dir) + "/" + run_files::track, append, last_step, "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz",
-                      &m->track));
   PetscFunctionReturn(0);
 }
 
@@ -128,39 +119,115 @@ PetscErrorCode MonitorWrite(MPI_Comm comm, Monitor *m, PetscInt64 step, PetscRea
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MonitorTrack(MPI_Comm comm, Monitor *m, Dem *dem, PetscInt64 step, PetscReal time)
+namespace {
+
+// track.csv: the state of each particle of -monitor_track_ids present in the system, every -monitor_track_every steps.
+class ParticleTrack final : public Output {
+public:
+  ParticleTrack(std::vector<PetscInt64> ids, PetscInt every) : ids_(std::move(ids)), every_(every) {}
+  const char *Name() const override { return "track"; }
+
+  // A fresh file with its header, or on a restart the file continued after the checkpoint's step.
+  PetscErrorCode Start(const RunView &run) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(OpenLog(run.comm, std::string(run.output_dir) + "/" + run_files::track, run.restart[0] ? PETSC_TRUE : PETSC_FALSE, run.step,
+                      "step,time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz", &file_));
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode Step(const RunView &run) override
+  {
+    PetscFunctionBeginUser;
+    stepped_ = true;
+    PetscCall(Write(run));
+    PetscFunctionReturn(0);
+  }
+
+  // Closed, checked, at the end of a run no guard stopped (a stopped run's rows are flushed; Destroy closes it).
+  PetscErrorCode Finalize(const RunView &run) override
+  {
+    PetscFunctionBeginUser;
+    PetscCall(OutputFileClose(run.comm, &file_));
+    PetscFunctionReturn(0);
+  }
+
+  // A fresh run stopped at its initial state, before any Step: the row of that state, as the run writes its monitor row
+  // before the guards' verdict there (after a step, the state that failed has no row).
+  PetscErrorCode Stopped(const RunView &run) override
+  {
+    PetscFunctionBeginUser;
+    if (!stepped_ && !run.restart[0]) PetscCall(Write(run));
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode Destroy() override
+  {
+    PetscFunctionBeginUser;
+    if (file_.fp) fclose(file_.fp); // left open only by a run that stopped early: its rows are flushed
+    file_ = OutputFile();
+    PetscFunctionReturn(0);
+  }
+
+private:
+  // The rows of run.step, every -monitor_track_every steps (collective).
+  PetscErrorCode Write(const RunView &run)
+  {
+    const std::size_t      nt = ids_.size();
+    std::vector<PetscReal> loc(nt * 13, 0.0), glob(nt * 13);
+    ParticleArrays         p;
+
+    PetscFunctionBeginUser;
+    if (!run.swarm || run.step % every_) PetscFunctionReturn(0);
+    PetscCall(ParticleArraysGet(run.swarm, &p));
+    for (PetscInt i = 0; i < p.n; ++i) {
+      const auto it = std::find(ids_.begin(), ids_.end(), p.id[i]);
+      if (it == ids_.end()) continue;
+      PetscReal *row = &loc[13 * (std::size_t)(it - ids_.begin())];
+      row[0]         = 1.0; // found
+      for (PetscInt a = 0; a < p.dim; ++a) row[1 + a] = p.x[p.dim * i + a];
+      for (int a = 0; a < 3; ++a) {
+        row[4 + a]  = p.v[3 * i + a];
+        row[7 + a]  = p.w[3 * i + a];
+        row[10 + a] = p.f[3 * i + a];
+      }
+    }
+    PetscCall(ParticleArraysRestore(run.swarm, &p));
+    PetscCallMPI(MPI_Reduce(loc.data(), glob.data(), (int)loc.size(), MPIU_REAL, MPI_SUM, 0, run.comm));
+    if (file_.fp) {
+      for (std::size_t k = 0; k < nt; ++k) {
+        const PetscReal *r = &glob[13 * k];
+        if (r[0] == 0.0) continue; // not (or no longer) in the system
+        OutputFilePrintf(&file_, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n",
+                         (long long)run.step, (double)run.time, (long long)ids_[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9],
+                         r[10], r[11], r[12]);
+      }
+    }
+    PetscCall(OutputFileFlush(run.comm, &file_));
+    PetscFunctionReturn(0);
+  }
+
+  std::vector<PetscInt64> ids_;
+  PetscInt                every_;
+  OutputFile              file_;
+  bool                    stepped_ = false; // a Step came (the initial state's row is written there)
+};
+
+} // namespace
+
+PetscErrorCode ParticleTrackCreate(const RunView &run, std::unique_ptr<Output> *out)
 {
-  const std::size_t      nt = m->track_ids.size();
-  std::vector<PetscReal> loc(nt * 13, 0.0), glob(nt * 13);
-  ParticleArrays         p;
+  PetscInt  ids[256] = {0}, nids = 256, every = 1; // -help prints the first entry as the default
+  PetscBool set = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  if (!nt || step % m->track_every) PetscFunctionReturn(0);
-  PetscCall(ParticleArraysGet(DemGetSwarm(dem), &p));
-  for (PetscInt i = 0; i < p.n; ++i) {
-    const auto it = std::find(m->track_ids.begin(), m->track_ids.end(), p.id[i]);
-    if (it == m->track_ids.end()) continue;
-    PetscReal *row = &loc[13 * (std::size_t)(it - m->track_ids.begin())];
-    row[0]         = 1.0; // found
-    for (PetscInt a = 0; a < p.dim; ++a) row[1 + a] = p.x[p.dim * i + a];
-    for (int a = 0; a < 3; ++a) {
-      row[4 + a]  = p.v[3 * i + a];
-      row[7 + a]  = p.w[3 * i + a];
-      row[10 + a] = p.f[3 * i + a];
-    }
-  }
-  PetscCall(ParticleArraysRestore(DemGetSwarm(dem), &p));
-  PetscCallMPI(MPI_Reduce(loc.data(), glob.data(), (int)loc.size(), MPIU_REAL, MPI_SUM, 0, comm));
-  if (m->track.fp) {
-    for (std::size_t k = 0; k < nt; ++k) {
-      const PetscReal *r = &glob[13 * k];
-      if (r[0] == 0.0) continue; // not (or no longer) in the system
-      OutputFilePrintf(&m->track, "%lld,%.12e,%lld,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e,%.15e\n",
-                       (long long)step, (double)time, (long long)m->track_ids[k], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9],
-                       r[10], r[11], r[12]);
-    }
-  }
-  PetscCall(OutputFileFlush(comm, &m->track));
+  PetscOptionsBegin(run.comm, "monitor_", "Tracked particles (track.csv)", "Output");
+  PetscCall(OptionsIntArray(PetscOptionsObject, "-track_ids", "Particle ids whose state goes to track.csv", PETSC_MIN_INT, PETSC_MAX_INT,
+                            ids, &nids, &set));
+  PetscCall(OptionsInt(PetscOptionsObject, "-track_every", "Steps between rows of track.csv", 1, PETSC_MAX_INT, &every, NULL));
+  PetscOptionsEnd();
+  out->reset();
+  if (set && nids > 0) *out = std::make_unique<ParticleTrack>(std::vector<PetscInt64>(ids, ids + nids), every);
   PetscFunctionReturn(0);
 }
 
@@ -168,16 +235,14 @@ PetscErrorCode MonitorClose(MPI_Comm comm, Monitor *m)
 {
   PetscFunctionBeginUser;
   PetscCall(OutputFileClose(comm, &m->csv));
-  if (!m->track_ids.empty()) PetscCall(OutputFileClose(comm, &m->track));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode MonitorDestroy(Monitor *m)
 {
   PetscFunctionBeginUser;
-  for (OutputFile *f : {&m->csv, &m->track})
-    if (f->fp) fclose(f->fp); // left open only by a run that stopped early: its rows are flushed
-  m->csv = m->track = OutputFile();
+  if (m->csv.fp) fclose(m->csv.fp); // left open only by a run that stopped early: its rows are flushed
+  m->csv = OutputFile();
   PetscFunctionReturn(0);
 }
 

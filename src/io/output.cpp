@@ -1,4 +1,5 @@
 #include "fluidbed/io.hpp"
+#include "fluidbed/fluid.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -57,6 +58,38 @@ PetscErrorCode WriteParticlesCSV(DM sw, const char *path)
     }
   }
   PetscCall(OutputFileClose(comm, &out));
+  PetscFunctionReturn(0);
+}
+
+namespace {
+
+// particles.csv and fluid_cells.csv, the state a run that no guard stopped ends with.
+class FinalTables final : public Output {
+public:
+  explicit FinalTables(PetscBool particles) : particles_(particles) {}
+  const char *Name() const override { return "tables"; }
+
+  PetscErrorCode Finalize(const RunView &run) override
+  {
+    const std::string dir = run.output_dir;
+
+    PetscFunctionBeginUser;
+    if (run.swarm && particles_) PetscCall(WriteParticlesCSV(run.swarm, (dir + "/" + run_files::particles).c_str()));
+    if (run.fluid && FluidWantsCellsCSV(run.fluid)) PetscCall(FluidWriteCellsCSV(run.fluid, (dir + "/" + run_files::fluid_cells).c_str()));
+    PetscFunctionReturn(0);
+  }
+
+private:
+  PetscBool particles_; // -output_particles
+};
+
+} // namespace
+
+PetscErrorCode FinalTablesCreate(const RunView &run, PetscBool particles, std::unique_ptr<Output> *out)
+{
+  PetscFunctionBeginUser;
+  out->reset();
+  if ((run.swarm && particles) || (run.fluid && FluidWantsCellsCSV(run.fluid))) *out = std::make_unique<FinalTables>(particles);
   PetscFunctionReturn(0);
 }
 

@@ -12,6 +12,12 @@ PetscErrorCode Output::Values(const RunView &, std::vector<PetscReal> *)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode Output::Start(const RunView &)
+{
+  PetscFunctionBeginUser;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Output::Step(const RunView &)
 {
   PetscFunctionBeginUser;
@@ -19,6 +25,18 @@ PetscErrorCode Output::Step(const RunView &)
 }
 
 PetscErrorCode Output::Finalize(const RunView &)
+{
+  PetscFunctionBeginUser;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Output::Stopped(const RunView &)
+{
+  PetscFunctionBeginUser;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Output::End(const RunView &)
 {
   PetscFunctionBeginUser;
   PetscFunctionReturn(0);
@@ -37,6 +55,12 @@ PetscErrorCode Output::CheckpointWrite(const RunView &, PetscViewer)
 }
 
 PetscErrorCode Output::CheckpointRead(const RunView &, PetscViewer)
+{
+  PetscFunctionBeginUser;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Output::Restart(const RunView &)
 {
   PetscFunctionBeginUser;
   PetscFunctionReturn(0);
@@ -106,6 +130,13 @@ PetscErrorCode OutputListValues(const OutputList &list, const RunView &run, std:
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode OutputListStart(const OutputList &list, const RunView &run)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Each(list, [&](Output &o) { return o.Start(run); }));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OutputListStep(const OutputList &list, const RunView &run)
 {
   PetscFunctionBeginUser;
@@ -117,6 +148,20 @@ PetscErrorCode OutputListFinalize(const OutputList &list, const RunView &run)
 {
   PetscFunctionBeginUser;
   PetscCall(Each(list, [&](Output &o) { return o.Finalize(run); }));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputListStopped(const OutputList &list, const RunView &run)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Each(list, [&](Output &o) { return o.Stopped(run); }));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputListEnd(const OutputList &list, const RunView &run)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Each(list, [&](Output &o) { return o.End(run); }));
   PetscFunctionReturn(0);
 }
 
@@ -138,6 +183,13 @@ PetscErrorCode OutputListCheckpointRead(const OutputList &list, const RunView &r
 {
   PetscFunctionBeginUser;
   PetscCall(Each(list, [&](Output &o) { return o.CheckpointRead(run, viewer); }));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputListRestart(const OutputList &list, const RunView &run)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Each(list, [&](Output &o) { return o.Restart(run); }));
   PetscFunctionReturn(0);
 }
 
