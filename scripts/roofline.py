@@ -7,7 +7,8 @@ against what one core of this machine can do.
         code as fluidbed is built (SSE2 scalar, -O3 without -march), the AVX-512 FMA peak, and the triad bandwidth
         from main memory and from the core's L2.
     scripts/roofline.py profile --name NAME --per N [--exe build/fluidbed] -- FLUIDBED OPTIONS...
-        Runs fluidbed once natively (the wall time of SimulationRun from summary.json) and once under callgrind
+        Runs fluidbed natively (the loop's CPU time: the run's less that of the same run with -max_steps 0, so that a
+        busy machine's other processes do not count; best of --repeat) and once under callgrind
         (--dump-instr=yes, a cache simulation whose last level is the core's own L2, collecting SimulationRun
         only), and counts per stage: instructions, double-precision flops (executed SSE/AVX arithmetic
         instructions read from objdump of each object: add/sub/mul/div/sqrt/min/max count 1 per lane, an FMA 2),
@@ -24,6 +25,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -329,14 +331,23 @@ def cmd_profile(a):
     shutil.copy2(os.path.abspath(a.exe), exe)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     try:
-        # native: the wall time of the run (best of --repeat)
-        wall = None
+        # native: the CPU time of the loop, that of the run less that of the same run with no steps (best of
+        # --repeat), so that other processes on the machine do not count; and the loop's wall time
+        def cpu_of(extra):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            out = os.path.join(work, "native")
+            subprocess.run([exe] + opts + extra + ["-output_dir", out, "-progress_interval", "0"], check=True, env=env,
+                           stdout=subprocess.DEVNULL)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), json.load(open(os.path.join(out, "summary.json")))
+
+        cpu = wall = None
         for r in range(a.repeat):
-            out = os.path.join(work, "native%d" % r)
-            subprocess.run([exe] + opts + ["-output_dir", out, "-progress_interval", "0"], check=True, env=env, stdout=subprocess.DEVNULL)
-            s = json.load(open(os.path.join(out, "summary.json")))
-            wall = s["wall_time_run"] if wall is None else min(wall, s["wall_time_run"])
+            c_run, s = cpu_of([])
+            c_setup, _ = cpu_of(["-max_steps", "0"])
             steps = s["steps_this_run"]
+            cpu = c_run - c_setup if cpu is None else min(cpu, c_run - c_setup)
+            wall = s["wall_time_run"] if wall is None else min(wall, s["wall_time_run"])
         cg = os.path.join(work, "callgrind.out")
         subprocess.run(["valgrind", "--tool=callgrind", "--dump-instr=yes", "--dump-line=no", "--cache-sim=yes",
                         "--LL=%d,16,64" % a.l2_bytes, "--collect-atstart=no", "--toggle-collect=fluidbed::SimulationRun*",
@@ -355,7 +366,7 @@ def cmd_profile(a):
         shutil.rmtree(work, ignore_errors=True)
     result = {
         "name": a.name, "command": " ".join([os.path.relpath(os.path.abspath(a.exe), ROOT)] + opts), "machine": "%s, %d cores" % (cpu_model(), os.cpu_count()),
-        "date": time.strftime("%Y-%m-%d"), "steps": steps, "per": a.per, "per_label": a.per_label, "wall_time_run": wall,
+        "date": time.strftime("%Y-%m-%d"), "steps": steps, "per": a.per, "per_label": a.per_label, "cpu_time_run": cpu, "wall_time_run": wall,
         "l2_bytes": a.l2_bytes, "stages": dict(stages),
     }
     json.dump(result, open(a.name + ".json", "w"), indent=1)
@@ -371,8 +382,9 @@ def format_table(results, peaks=None):
     lines = []
     for r in results:
         tot = {k: sum(s[k] for s in r["stages"].values()) for k in ("instructions", "flops", "l2_miss_bytes", "l1_miss_bytes")}
-        secs = r["wall_time_run"]
-        lines.append("%s (%s; %d steps, %.3f s): per %s" % (r["name"], r["command"], r["steps"], secs, r["per_label"]))
+        secs = r.get("cpu_time_run", r["wall_time_run"])
+        lines.append("%s (%s; %d steps, %.3f s of CPU time, %.3f s wall): per %s" % (r["name"], r["command"], r["steps"], secs,
+                                                                                      r["wall_time_run"], r["per_label"]))
         lines.append("| stage | share of instructions | instructions | flops | bytes beyond L1 | bytes beyond L2 | flops / L2 byte | GFLOP/s | GB/s beyond L2 |")
         lines.append("|---|---|---|---|---|---|---|---|---|")
         order = sorted(r["stages"].items(), key=lambda kv: -kv[1]["instructions"])
@@ -395,8 +407,8 @@ def cmd_plot(a):
     import matplotlib.pyplot as plt
     peaks = json.load(open(a.peaks))
     results = [json.load(open(p)) for p in a.profiles]
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    xs = [2.0 ** k for k in range(-8, 7)]
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    xs = [2.0 ** (k / 8.0) for k in range(-64, 49)]
     for key, label, style in (("avx512_fma_flops", "AVX-512 FMA peak", "k-"), ("scalar_flops", "scalar SSE2 (as built)", "k--")):
         if peaks.get(key):
             for bw, bl in ((peaks["dram_bytes_per_s"], "memory"), (peaks["l2_bytes_per_s"], "L2")):
@@ -406,11 +418,11 @@ def cmd_plot(a):
     ax.text(xs[0] * 1.1, peaks["l2_bytes_per_s"] * xs[0] * 1.3 / 1e9, "L2 %.0f GB/s" % (peaks["l2_bytes_per_s"] / 1e9), fontsize=8, rotation=28)
     markers = "osD^v<>"
     for i, r in enumerate(results):
-        secs = r["wall_time_run"]
+        secs = r.get("cpu_time_run", r["wall_time_run"])
         tot_ins = sum(s["instructions"] for s in r["stages"].values())
         for name, st in r["stages"].items():
             share = st["instructions"] / tot_ins
-            if share < 0.05 or not st["l2_miss_bytes"] or not st["flops"]:
+            if share < 0.05 or not st["l2_miss_bytes"] or not st["flops"] or name.startswith("other"):
                 continue
             ai = st["flops"] / st["l2_miss_bytes"]
             gf = st["flops"] / (secs * share) / 1e9
@@ -420,7 +432,7 @@ def cmd_plot(a):
     ax.set_xlabel("flops per byte beyond the core's L2 (callgrind)")
     ax.set_ylabel("GFLOP/s (one core)")
     ax.set_title("Roofline, one core: %s" % peaks["machine"], fontsize=9)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(True, which="both", alpha=0.2)
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)
