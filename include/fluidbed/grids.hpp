@@ -9,6 +9,7 @@
 
 #include <petscdmda.h>
 
+#include <functional>
 #include <vector>
 
 #include "fluidbed/domain.hpp"
@@ -23,7 +24,7 @@ struct FluidGrid {
 };
 
 // How the process grid is chosen when -pgrid_processors is not given (-pgrid_layout).
-enum GridLayout { GRID_LAYOUT_HORIZONTAL, GRID_LAYOUT_PETSC };
+enum GridLayout { GRID_LAYOUT_HORIZONTAL, GRID_LAYOUT_PETSC, GRID_LAYOUT_PARTICLES };
 
 struct ParticleGrid {
   DM                    da_cell   = nullptr; // cell-centred coarse DMDA for per-particle-cell fields
@@ -47,9 +48,13 @@ struct Grids {
   ParticleGrid particle;
 };
 
-// Reads -grid_nx/ny/nz, -pgrid_ratio, -pgrid_cell_diameters, -pgrid_processors and creates the DMDAs.
-// d_max is the largest particle diameter (m).
-PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max, Grids *grids);
+// Reads -grid_nx/ny/nz, -pgrid_ratio, -pgrid_cell_diameters, -pgrid_processors, -pgrid_layout and creates the DMDAs.
+// d_max is the largest particle diameter (m). points, for -pgrid_layout particles: gives the initial particles'
+// centres (x, y, z each, the same on every rank) and whether they are known before insertion; called only for that
+// layout. gas: whether the gas is on (the work of a fluid cell, -pgrid_cell_weight, is 0 without it).
+typedef std::function<PetscErrorCode(std::vector<PetscReal> *xyz, PetscBool *known)> InitialPoints;
+PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max, Grids *grids, const InitialPoints &points = nullptr,
+                           PetscBool gas = PETSC_TRUE);
 PetscErrorCode GridsDestroy(Grids *grids);
 // This rank's fluid cells and the halo cells its star stencil receives from neighbouring ranks.
 PetscErrorCode GridsLocalCells(const Grids &grids, PetscInt64 *owned, PetscInt64 *halo);

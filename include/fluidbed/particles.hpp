@@ -10,6 +10,7 @@
 #include <petscdmswarm.h>
 
 #include <string>
+#include <vector>
 
 #include "fluidbed/domain.hpp"
 #include "fluidbed/grids.hpp"
@@ -78,6 +79,9 @@ struct InsertionReport {
   PetscReal   solid_fraction_region = 0.0; // solid volume / region volume at insertion
   std::string file;                        // the CSV the particles were read from (-insert_type file), else empty
 };
+// The centres (x, y, z each) the insertion will place, where they are known before the grids exist: -insert_type
+// file (read on every rank); *known false otherwise. For -pgrid_layout particles.
+PetscErrorCode ParticlesInitialPositions(MPI_Comm comm, std::vector<PetscReal> *xyz, PetscBool *known);
 PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &domain, const ParticleGrid &pgrid, const ParticleProps &props, DM swarm,
                                InsertionReport *report);
 

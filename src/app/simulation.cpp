@@ -62,7 +62,16 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
   if (restart) PetscCall(CheckpointValidate(sim->comm, sim->output.restart)); // before the set-up, not after it
   PetscCall(DomainSetFromOptions(sim->comm, &sim->domain));
   if (sim->run.particles) PetscCall(ParticlePropsSetFromOptions(sim->comm, sim->domain, &sim->props));
-  PetscCall(GridsCreate(sim->comm, sim->domain, sim->run.particles ? sim->props.d_max : 0.0, &sim->grids));
+  {
+    // -pgrid_layout particles shares the initial particles among the ranks: known before insertion from a file
+    const InitialPoints points = [&](std::vector<PetscReal> *xyz, PetscBool *known) -> PetscErrorCode {
+      PetscFunctionBeginUser;
+      *known = PETSC_FALSE;
+      if (sim->run.particles && !restart) PetscCall(ParticlesInitialPositions(sim->comm, xyz, known));
+      PetscFunctionReturn(0);
+    };
+    PetscCall(GridsCreate(sim->comm, sim->domain, sim->run.particles ? sim->props.d_max : 0.0, &sim->grids, points, sim->run.fluid));
+  }
   if (sim->run.particles) {
     PetscCall(DemCreate(sim->comm, sim->domain, sim->grids.particle, sim->props, &sim->log, &sim->dem));
     PetscCall(DemCreateSwarm(sim->dem, &sim->swarm));

@@ -13,7 +13,7 @@ namespace {
 
 const char *const AxisName[3] = {"x", "y", "z"};
 // -pgrid_layout: how the process grid is chosen when -pgrid_processors is not given (PETSc's enum list format)
-const char *const LayoutNames[] = {"horizontal", "petsc", "GridLayout", "GRID_LAYOUT_", NULL};
+const char *const LayoutNames[] = {"horizontal", "petsc", "particles", "GridLayout", "GRID_LAYOUT_", NULL};
 
 // Creates a DMDA of dimension dim with given global sizes, process grid and ownership ranges (NULL: decide).
 // Default process grid: split x and z only (particles settle at the bottom of a bed, so a vertical split
@@ -39,9 +39,123 @@ void HorizontalProcessGrid(PetscInt dim, const PetscInt n[3], PetscMPIInt size, 
   if (best < 0) procs[0] = procs[1] = procs[2] = PETSC_DECIDE;
 }
 
+// -pgrid_layout particles: the initial particles in each particle cell, in natural order (x fastest).
+std::vector<double> CellParticles(const Domain &dom, const ParticleGrid &pg, const std::vector<PetscReal> &points)
+{
+  std::vector<double> w((std::size_t)(pg.n[0] * pg.n[1] * pg.n[2]), 0.0);
+  for (std::size_t p = 0; p + 2 < points.size(); p += 3) {
+    PetscInt c[3] = {0, 0, 0};
+    for (int a = 0; a < dom.dim; ++a) {
+      c[a] = (PetscInt)std::floor((points[p + a] - dom.lo[a]) / pg.h[a]);
+      c[a] = PetscMin(PetscMax(c[a], 0), pg.n[a] - 1);
+    }
+    w[(std::size_t)((c[2] * pg.n[1] + c[1]) * pg.n[0] + c[0])] += 1.0;
+  }
+  return w;
+}
+
+// Ownership of the cells of one axis by parts processes: cuts where the running sum of the axis's weights m reaches
+// k / parts of the total, each process keeping at least one cell.
+std::vector<PetscInt> SplitAxis(const std::vector<double> &m, PetscInt parts)
+{
+  const PetscInt        n     = (PetscInt)m.size();
+  double                total = 0;
+  std::vector<PetscInt> start((std::size_t)parts + 1, 0);
+  for (double x : m) total += x;
+  double   run = 0;
+  PetscInt i   = 0;
+  for (PetscInt k = 1; k < parts; ++k) {
+    const double   target = total * (double)k / (double)parts;
+    const PetscInt cut    = PetscMax(i, start[(std::size_t)k - 1] + 1);
+    for (; i < cut; ++i) run += m[(std::size_t)i];
+    // take the next cell while that brings the running sum closer to the target
+    while (i < n - (parts - k) && std::fabs(run + m[(std::size_t)i] - target) < std::fabs(run - target)) run += m[(std::size_t)i++];
+    start[(std::size_t)k] = i;
+  }
+  start[(std::size_t)parts] = n;
+  return start;
+}
+
+// The process grid and ownership ranges that take the least time per step, over every factorisation of the ranks
+// (2D: z not split). The particles' stages and the gas's are separated by collective steps, so a step takes about
+// the busiest rank's particles plus cell_weight times the busiest rank's fluid cells. Each axis is cut at the
+// quantiles of its particles, of its cells (even), or of the two's sum, whichever combination is best.
+void BalancedProcessGrid(const ParticleGrid &pg, PetscInt dim, PetscMPIInt size, const std::vector<double> &particles,
+                         PetscReal cell_weight, PetscInt procs[3], std::vector<PetscInt> start[3], double *cost, double *even_cost)
+{
+  const PetscInt *n     = pg.n;
+  const double    cells = (double)(pg.ratio[0] * pg.ratio[1] * pg.ratio[2]); // fluid cells per particle cell
+  double          best = -1, total = 0;
+  for (double x : particles) total += x;
+  std::vector<double> marg[3], flat[3], both[3];
+  for (int a = 0; a < 3; ++a) {
+    marg[a].assign((std::size_t)n[a], 0.0);
+    flat[a].assign((std::size_t)n[a], 1.0);
+  }
+  for (PetscInt k = 0; k < n[2]; ++k)
+    for (PetscInt j = 0; j < n[1]; ++j)
+      for (PetscInt i = 0; i < n[0]; ++i) {
+        const double x = particles[(std::size_t)((k * n[1] + j) * n[0] + i)];
+        marg[0][(std::size_t)i] += x;
+        marg[1][(std::size_t)j] += x;
+        marg[2][(std::size_t)k] += x;
+      }
+  for (int a = 0; a < 3; ++a) {
+    both[a].resize((std::size_t)n[a]);
+    const double per = cell_weight * cells * (double)(n[0] * n[1] * n[2] / n[a]); // the gas work of one slab
+    for (PetscInt i = 0; i < n[a]; ++i) both[a][(std::size_t)i] = marg[a][(std::size_t)i] + per;
+  }
+  const double ncell_total = (double)(n[0] * n[1] * n[2]) * cells;
+  *even_cost               = total / size + cell_weight * ncell_total / size;
+  for (PetscInt px = 1; px <= size; ++px) {
+    if (size % px) continue;
+    for (PetscInt py = 1; py <= size / px; ++py) {
+      if ((size / px) % py) continue;
+      const PetscInt pz = size / px / py;
+      if (dim == 2 && pz != 1) continue;
+      const PetscInt p[3] = {px, py, pz};
+      if (px > n[0] || py > n[1] || pz > n[2]) continue;
+      std::vector<PetscInt> cand[3][3];
+      for (int a = 0; a < 3; ++a) {
+        cand[a][0] = SplitAxis(marg[a], p[a]);
+        cand[a][1] = SplitAxis(flat[a], p[a]);
+        cand[a][2] = SplitAxis(both[a], p[a]);
+      }
+      for (int cx = 0; cx < 3; ++cx)
+        for (int cy = 0; cy < 3; ++cy)
+          for (int cz = 0; cz < 3; ++cz) {
+            const std::vector<PetscInt> *s[3] = {&cand[0][cx], &cand[1][cy], &cand[2][cz]};
+            std::vector<double>          rank_particles((std::size_t)(px * py * pz), 0.0);
+            double                       max_cells = 0;
+            for (PetscInt rz = 0; rz < pz; ++rz)
+              for (PetscInt ry = 0; ry < py; ++ry)
+                for (PetscInt rx = 0; rx < px; ++rx) {
+                  const PetscInt lo[3] = {(*s[0])[(std::size_t)rx], (*s[1])[(std::size_t)ry], (*s[2])[(std::size_t)rz]};
+                  const PetscInt hi[3] = {(*s[0])[(std::size_t)rx + 1], (*s[1])[(std::size_t)ry + 1], (*s[2])[(std::size_t)rz + 1]};
+                  double         sum   = 0;
+                  for (PetscInt k = lo[2]; k < hi[2]; ++k)
+                    for (PetscInt j = lo[1]; j < hi[1]; ++j)
+                      for (PetscInt i = lo[0]; i < hi[0]; ++i) sum += particles[(std::size_t)((k * n[1] + j) * n[0] + i)];
+                  rank_particles[(std::size_t)((rz * py + ry) * px + rx)] = sum;
+                  max_cells = std::max(max_cells, cells * (double)((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])));
+                }
+            const double c = *std::max_element(rank_particles.begin(), rank_particles.end()) + cell_weight * max_cells;
+            if (best < 0 || c < best * (1.0 - 1e-12)) {
+              best = c;
+              for (int a = 0; a < 3; ++a) {
+                procs[a] = p[a];
+                start[a] = *s[a];
+              }
+            }
+          }
+    }
+  }
+  *cost = best;
+}
+
 } // namespace
 
-PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Grids *g)
+PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Grids *g, const InitialPoints &points, PetscBool gas)
 {
   FluidGrid    &fg    = g->fluid;
   ParticleGrid &pg    = g->particle;
@@ -49,7 +163,8 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
   PetscInt      nf[3] = {0, 0, 0}, ratio[3] = {0, 0, 0}, nratio = 3, procs[3] = {PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE}, nprocs = 3;
   PetscReal     cell_diameters = 3.0;
   PetscBool     set_n[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, set_ratio = PETSC_FALSE, set_procs = PETSC_FALSE;
-  PetscEnum     layout = (PetscEnum)GRID_LAYOUT_HORIZONTAL;
+  PetscEnum     layout      = (PetscEnum)GRID_LAYOUT_HORIZONTAL;
+  PetscReal     cell_weight = gas ? 3.0 : 0.0;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "grid_", "Fluid grid (fine, cell-centred)", "Grids");
@@ -70,9 +185,14 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
                             PETSC_MIN_INT, PETSC_MAX_INT, procs, &nprocs, &set_procs));
   PetscCall(OptionsEnum(PetscOptionsObject, "-layout",
                         "Process grid when -pgrid_processors is not given: horizontal (split x and z only, so that a bed settled at "
-                        "the bottom is shared by every rank) or petsc (PETSc's balanced choice, which splits the longest direction, "
-                        "y in a tall box)",
+                        "the bottom is shared by every rank), petsc (PETSc's balanced choice, which splits the longest direction, "
+                        "y in a tall box) or particles (the process grid and ownership ranges that share the work of the initial "
+                        "particles and the gas cells evenly; known before insertion for -insert_type file, else horizontal)",
                         LayoutNames, &layout, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-cell_weight",
+                        "-pgrid_layout particles: the work of one fluid cell in particles (default 3 with the gas, from the coupled beds' "
+                        "instruction counts of 3-6, docs/performance.md; 0 without it)",
+                        "particles", Closed(0.0, 1e6), &cell_weight, NULL));
   PetscOptionsEnd();
   pg.layout = (GridLayout)layout;
 
@@ -122,14 +242,36 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
   DMBoundaryType bt[3], bnone[3] = {DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE};
   for (int a = 0; a < 3; ++a) bt[a] = dom.periodic[a] ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE;
   {
-    const PetscInt *none[3] = {NULL, NULL, NULL};
-    PetscInt        size[3];
-    PetscMPIInt     nranks;
+    const PetscInt       *owned[3] = {NULL, NULL, NULL};
+    std::vector<PetscInt> balanced[3], balanced_own[3];
+    PetscInt              size[3];
+    PetscMPIInt           nranks;
     PetscCallMPI(MPI_Comm_size(comm, &nranks));
     if (set_procs) {
       PetscCheck(procs[0] * procs[1] * (dim == 3 ? procs[2] : 1) == nranks, comm, PETSC_ERR_USER_INPUT,
                  "-pgrid_processors product must equal the %d ranks", (int)nranks);
-    } else if (pg.layout == GRID_LAYOUT_HORIZONTAL) HorizontalProcessGrid(dim, pg.n, nranks, procs);
+    } else if (pg.layout == GRID_LAYOUT_PARTICLES) {
+      std::vector<PetscReal> xyz;
+      PetscBool              known = PETSC_FALSE;
+      double                 worst = -1, even = 0;
+      if (points) PetscCall(points(&xyz, &known));
+      if (known) BalancedProcessGrid(pg, dim, nranks, CellParticles(dom, pg, xyz), cell_weight, procs, balanced, &worst, &even);
+      if (worst >= 0) {
+        PetscCall(PetscInfo(NULL, "-pgrid_layout particles: %d x %d x %d, work per step %.4g against %.4g if evenly shared\n",
+                            (int)procs[0], (int)procs[1], (int)procs[2], worst, even));
+        for (int a = 0; a < dim; ++a) {
+          balanced_own[a].resize((std::size_t)procs[a]);
+          for (PetscInt r = 0; r < procs[a]; ++r)
+            balanced_own[a][(std::size_t)r] = balanced[a][(std::size_t)r + 1] - balanced[a][(std::size_t)r];
+          owned[a] = balanced_own[a].data();
+        }
+      } else {
+        PetscCall(PetscPrintf(comm, "-pgrid_layout particles: the particles' positions are known before insertion only with -insert_type "
+                                    "file (and not on a restart); the horizontal layout is used\n"));
+        pg.layout = GRID_LAYOUT_HORIZONTAL;
+      }
+    }
+    if (!set_procs && pg.layout == GRID_LAYOUT_HORIZONTAL) HorizontalProcessGrid(dim, pg.n, nranks, procs);
     for (int a = 0; a < dim; ++a) {
       // a rank must own at least one particle cell in every direction
       PetscCheck(!set_procs || procs[a] <= pg.n[a], comm, PETSC_ERR_USER_INPUT, "%d ranks along %s but only %d particle cells",
@@ -138,7 +280,7 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Gr
     PetscCheck(pg.n[0] * pg.n[1] * (dim == 3 ? pg.n[2] : 1) >= nranks, comm, PETSC_ERR_USER_INPUT,
                "the particle grid has %d x %d x %d cells, fewer than the %d ranks: use fewer ranks or smaller particle cells", (int)pg.n[0],
                (int)pg.n[1], (int)(dim == 3 ? pg.n[2] : 1), (int)nranks);
-    PetscCall(DMDACreateLayout(comm, dim, bnone, DMDA_STENCIL_BOX, pg.n, procs, none, 1, 1, &pg.da_cell));
+    PetscCall(DMDACreateLayout(comm, dim, bnone, DMDA_STENCIL_BOX, pg.n, procs, owned, 1, 1, &pg.da_cell));
     PetscCall(PetscObjectSetName((PetscObject)pg.da_cell, "particle_grid"));
     PetscCall(DMDAGetInfo(pg.da_cell, NULL, NULL, NULL, NULL, &size[0], &size[1], &size[2], NULL, NULL, NULL, NULL, NULL, NULL));
     const PetscInt *own[3] = {NULL, NULL, NULL};

@@ -70,6 +70,27 @@ PetscErrorCode ReadParticleCSV(MPI_Comm comm, const char *path, GlobalParticles 
 
 } // namespace
 
+PetscErrorCode ParticlesInitialPositions(MPI_Comm comm, std::vector<PetscReal> *xyz, PetscBool *known)
+{
+  PetscEnum type = (PetscEnum)INSERT_LATTICE;
+  PetscBool set;
+  char      file[PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  xyz->clear();
+  *known = PETSC_FALSE;
+  // read quietly: ParticlesInsert reads and reports these options
+  PetscCall(PetscOptionsGetEnum(NULL, NULL, "-insert_type", InsertTypes, &type, &set));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-insert_file", file, sizeof(file), NULL));
+  if ((InsertType)type != INSERT_FILE || !file[0]) PetscFunctionReturn(0);
+  GlobalParticles g;
+  PetscCall(ReadParticleCSV(comm, file, &g));
+  xyz->reserve(3 * g.x.size());
+  for (const Vec3 &x : g.x) xyz->insert(xyz->end(), {x.x, x.y, x.z});
+  *known = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleGrid &pg, const ParticleProps &props, DM sw,
                                InsertionReport *report)
 {
