@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fluidbed/domain.hpp"
+#include "fluidbed/kernels/cell_grid.hpp"
 
 namespace fluidbed {
 
@@ -56,6 +57,8 @@ typedef std::function<PetscErrorCode(std::vector<PetscReal> *xyz, PetscBool *kno
 PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max, Grids *grids, const InitialPoints &points = nullptr,
                            PetscBool gas = PETSC_TRUE);
 PetscErrorCode GridsDestroy(Grids *grids);
+// The box of n[0] x n[1] (x n[2]) cells over the domain (a grid's cell counts), as the kernels measure it.
+kernels::CellGrid GridsCellGrid(const Domain &domain, const PetscInt n[3]);
 // This rank's fluid cells and the halo cells its star stencil receives from neighbouring ranks.
 PetscErrorCode GridsLocalCells(const Grids &grids, PetscInt64 *owned, PetscInt64 *halo);
 PetscErrorCode GridsView(const Grids &grids, const Domain &domain, PetscViewer viewer);

@@ -175,8 +175,7 @@ PetscErrorCode SetUp(BedAverages *a, const RunView &run)
 
   PetscFunctionBeginUser;
   a->dim  = dom.dim;
-  a->grid = kernels::cell_grid((int)dom.dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)pg.n[0],
-                               (int)pg.n[1], (int)pg.n[2]);
+  a->grid = GridsCellGrid(dom, pg.n);
   PetscCall(DMDACreateCompatibleDMDA(pg.da_cell, kernels::kCellSumsDof, &a->da_sums));
   PetscCall(DMDACreateCompatibleDMDA(pg.da_cell, kernels::kCellAverageSumsDof, &a->da_acc));
   PetscCall(DMDACreateCompatibleDMDA(pg.da_cell, 1, &a->da_scalar));
@@ -200,8 +199,7 @@ PetscErrorCode SetUp(BedAverages *a, const RunView &run)
 
   if (run.fluid) {
     DM da_eps;
-    a->fgrid = kernels::cell_grid((int)dom.dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)fg.n[0],
-                                  (int)fg.n[1], (int)fg.n[2]);
+    a->fgrid = GridsCellGrid(dom, fg.n);
     PetscCall(FluidGetJetSlots(run.fluid, &a->jets));
     for (const auto &s : a->jets) a->jet_cells.push_back(kernels::jet_inlet_cells(a->fgrid, s[0], s[1]));
     if (!a->jets.empty()) {

@@ -120,8 +120,7 @@ PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *val
   // cross-section-averaged profile, interpolated between layer centres
   std::vector<PetscReal> prof;
   PetscCall(GasPressureProfile(fluid, dom, grid, &prof));
-  const kernels::CellGrid g = kernels::cell_grid(dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)grid.n[0],
-                                                 (int)grid.n[1], (int)grid.n[2]);
+  const kernels::CellGrid g = GridsCellGrid(dom, grid.n);
   for (PetscReal y : heights) values->push_back(kernels::interpolate_profile(g, prof, y - dom.lo[1]));
 
   // point probes: the value of the cell holding the point, from its owner

@@ -42,15 +42,9 @@ void HorizontalProcessGrid(PetscInt dim, const PetscInt n[3], PetscMPIInt size, 
 // -pgrid_layout particles: the initial particles in each particle cell, in natural order (x fastest).
 std::vector<double> CellParticles(const Domain &dom, const ParticleGrid &pg, const std::vector<PetscReal> &points)
 {
-  std::vector<double> w((std::size_t)(pg.n[0] * pg.n[1] * pg.n[2]), 0.0);
-  for (std::size_t p = 0; p + 2 < points.size(); p += 3) {
-    PetscInt c[3] = {0, 0, 0};
-    for (int a = 0; a < dom.dim; ++a) {
-      c[a] = (PetscInt)std::floor((points[p + a] - dom.lo[a]) / pg.h[a]);
-      c[a] = PetscMin(PetscMax(c[a], 0), pg.n[a] - 1);
-    }
-    w[(std::size_t)((c[2] * pg.n[1] + c[1]) * pg.n[0] + c[0])] += 1.0;
-  }
+  const kernels::CellGrid g = GridsCellGrid(dom, pg.n);
+  std::vector<double>     w((std::size_t)kernels::cell_count(g), 0.0);
+  for (std::size_t p = 0; p + 2 < points.size(); p += 3) w[(std::size_t)kernels::cell_of_point(g, &points[p])] += 1.0;
   return w;
 }
 
@@ -154,6 +148,12 @@ void BalancedProcessGrid(const ParticleGrid &pg, PetscInt dim, PetscMPIInt size,
 }
 
 } // namespace
+
+kernels::CellGrid GridsCellGrid(const Domain &dom, const PetscInt n[3])
+{
+  return kernels::cell_grid((int)dom.dim, {dom.lo[0], dom.lo[1], dom.lo[2]}, {dom.hi[0], dom.hi[1], dom.hi[2]}, (int)n[0], (int)n[1],
+                            (int)n[2]);
+}
 
 PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Grids *g, const InitialPoints &points, PetscBool gas)
 {
