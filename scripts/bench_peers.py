@@ -43,7 +43,7 @@ import time
 import numpy as np
 
 from fluidbed_tools.reference import damping_ratio  # fluidbed's eq. 3.3 (docs/dem.md)
-from fluidbed_tools.run import ROOT
+from fluidbed_tools.run import ROOT, machine
 
 CODES = ("fluidbed", "lammps", "liggghts")
 G = 9.81
@@ -541,18 +541,6 @@ def check_physics(bed, p, runs0, rec):
 
 def med_range(xs):
     return {"median": statistics.median(xs), "min": min(xs), "max": max(xs), "values": xs}
-
-
-def machine():
-    model = "unknown"
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    env = {k: v for k, v in os.environ.items() if k not in ("OMP_NUM_THREADS", "OMP_THREAD_LIMIT")}
-    cores = subprocess.run(["nproc"], capture_output=True, text=True, env=env).stdout.strip()
-    return {"cpu": model, "cores": int(cores) if cores.isdigit() else cores}
 
 
 def versions(args):

@@ -33,6 +33,8 @@ import tempfile
 import time
 from collections import defaultdict
 
+from fluidbed_tools.run import ENV, machine, point_command
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
@@ -118,15 +120,13 @@ def build_and_run(src, flags, args):
         shutil.rmtree(d, ignore_errors=True)
 
 
-def cpu_model():
-    for line in open("/proc/cpuinfo"):
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return "unknown"
+def machine_text():
+    m = machine()
+    return "%s, %s cores" % (m["cpu"], m["cores"])
 
 
 def cmd_peaks(a):
-    peaks = {"machine": "%s, %d cores" % (cpu_model(), os.cpu_count()), "date": time.strftime("%Y-%m-%d")}
+    peaks = {"machine": machine_text(), "date": time.strftime("%Y-%m-%d")}
     peaks["scalar_flops"] = build_and_run(PEAK_C, ["-fno-tree-vectorize"], [200000000])
     try:
         peaks["avx512_fma_flops"] = build_and_run(PEAK_C, ["-DFMA512", "-mavx512f", "-mfma"], [100000000])
@@ -329,15 +329,13 @@ def cmd_profile(a):
     # a copy: the instructions are read back from the binary that ran, even if the build changes meanwhile
     exe = os.path.join(work, "fluidbed")
     shutil.copy2(os.path.abspath(a.exe), exe)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
     try:
         # native: the CPU time of the loop, that of the run less that of the same run with no steps (best of
         # --repeat), so that other processes on the machine do not count; and the loop's wall time
         def cpu_of(extra):
             before = resource.getrusage(resource.RUSAGE_CHILDREN)
             out = os.path.join(work, "native")
-            subprocess.run([exe] + opts + extra + ["-output_dir", out, "-progress_interval", "0"], check=True, env=env,
-                           stdout=subprocess.DEVNULL)
+            subprocess.run(point_command(opts + extra, out, 1, exe), check=True, env=ENV, stdout=subprocess.DEVNULL)
             after = resource.getrusage(resource.RUSAGE_CHILDREN)
             return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), json.load(open(os.path.join(out, "summary.json")))
 
@@ -351,8 +349,8 @@ def cmd_profile(a):
         cg = os.path.join(work, "callgrind.out")
         subprocess.run(["valgrind", "--tool=callgrind", "--dump-instr=yes", "--dump-line=no", "--cache-sim=yes",
                         "--LL=%d,16,64" % a.l2_bytes, "--collect-atstart=no", "--toggle-collect=fluidbed::SimulationRun*",
-                        "--callgrind-out-file=" + cg, exe] + opts + ["-output_dir", os.path.join(work, "cg"), "-progress_interval", "0"],
-                       check=True, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                        "--callgrind-out-file=" + cg] + point_command(opts, os.path.join(work, "cg"), 1, exe),
+                       check=True, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         events, funcs = parse_callgrind(cg)
         ix = events.index("Ir")
         # disassemble the objects that carry at least 0.05% of the instructions
@@ -365,7 +363,7 @@ def cmd_profile(a):
     finally:
         shutil.rmtree(work, ignore_errors=True)
     result = {
-        "name": a.name, "command": " ".join([os.path.relpath(os.path.abspath(a.exe), ROOT)] + opts), "machine": "%s, %d cores" % (cpu_model(), os.cpu_count()),
+        "name": a.name, "command": " ".join([os.path.relpath(os.path.abspath(a.exe), ROOT)] + opts), "machine": machine_text(),
         "date": time.strftime("%Y-%m-%d"), "steps": steps, "per": a.per, "per_label": a.per_label, "cpu_time_run": cpu, "wall_time_run": wall,
         "l2_bytes": a.l2_bytes, "stages": dict(stages),
     }

@@ -18,6 +18,19 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "1"))
 
 
+def machine():
+    """The CPU model and the cores a run may use (nproc, not limited by OMP_NUM_THREADS), for a benchmark's record."""
+    model = "unknown"
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_NUM_THREADS", "OMP_THREAD_LIMIT")}
+    cores = subprocess.run(["nproc"], capture_output=True, text=True, env=env).stdout.strip()
+    return {"cpu": model, "cores": int(cores) if cores.isdigit() else cores}
+
+
 def example(path):
     """An options file of examples/ by its path there."""
     return os.path.join(SRC, "examples", path)

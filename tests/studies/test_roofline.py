@@ -9,13 +9,10 @@
 import os
 import shutil
 import subprocess
-import sys
 import tempfile
 
+import roofline  # scripts/, on PYTHONPATH like the package
 from fluidbed_tools import testing as t
-
-sys.path.insert(0, os.path.join(t.SRC, "scripts"))
-import roofline  # noqa: E402
 
 cases = [("addsd", "%xmm1,%xmm0", 1), ("vmulsd", "%xmm2,%xmm1,%xmm0", 1), ("addpd", "%xmm1,%xmm0", 2),
          ("vaddpd", "%ymm1,%ymm2,%ymm0", 4), ("vfmadd231pd", "%zmm1,%zmm2,%zmm0", 16), ("vfmadd213sd", "%xmm1,%xmm2,%xmm0", 2),
