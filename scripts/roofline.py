@@ -376,7 +376,7 @@ def per_unit(r, st):
     return st["instructions"] / units, st["flops"] / units, st["l2_miss_bytes"] / units, st["l1_miss_bytes"] / units
 
 
-def format_table(results, peaks=None):
+def format_table(results):
     lines = []
     for r in results:
         tot = {k: sum(s[k] for s in r["stages"].values()) for k in ("instructions", "flops", "l2_miss_bytes", "l1_miss_bytes")}
@@ -435,7 +435,7 @@ def cmd_plot(a):
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)
     if a.table:
-        open(a.table, "w").write(format_table(results, peaks))
+        open(a.table, "w").write(format_table(results))
     print("wrote", a.out)
 
 
