@@ -17,7 +17,8 @@
 #                step of 2.3e-6 s on this grid and 1.1e-6 s on the refined one: the example's 5.84e-6 s (t_cr/10) stops
 #                on the Courant guard after 50 steps, so both run at -dem_dt_factor 0.015 (8.76e-7 s)
 #   bed750_1m    the same bed on 350 x 400 x 7 = 980,000 cells: steps 1-4 (RANKS ranks)
-# Environment: FLUIDBED_EXE (build/fluidbed), RANKS (1; the million-cell scene 2).
+# Environment: FLUIDBED_EXE (build/fluidbed), RANKS (1; the million-cell scene 2), REFINE (the refinement factors of
+# jet2d_refine, default "1 2 4"; REFINE=4 writes only the finest).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=${FLUIDBED_EXE:-$ROOT/build/fluidbed}
@@ -45,7 +46,7 @@ scene_jet2d() {
 
 scene_jet2d_refine() {
   local r
-  for r in 1 2 4; do
+  for r in ${REFINE:-1 2 4}; do
     run "jet2d_r$r" "${RANKS:-1}" -options_file "$ROOT/examples/jetted_bed_2d.opts" -grid_nx $((33 * r)) -grid_ny $((60 * r)) \
       -pgrid_ratio $((3 * r)),$((2 * r)) -dem_dt_factor 0.02 -t_final 0.04001 -fluid_p_dump_interval 1 -fluid_p_dump_start_time 0.04 \
       -fluid_p_dump_count 4
