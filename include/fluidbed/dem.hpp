@@ -30,10 +30,11 @@ struct DemParams {
   char      contact_model[64] = "lsd";                                     // -dem_contact_model
   PetscReal kn = 800.0, kt = -1.0, e = 0.9, mu = 0.3;                      // particle-particle; kt < 0: kt = kn
   PetscReal wall_kn = -1.0, wall_kt = -1.0, wall_e = -1.0, wall_mu = -1.0; // < 0: same as the particles
-  PetscReal dt_factor    = 0.1;                                            // dt = dt_factor * t_cr
-  PetscReal skin         = 0.1;                                            // Verlet skin in largest diameters
-  PetscInt  max_contacts = 16;                                             // history slots per particle
-  PetscBool pseudo2d     = PETSC_FALSE;                                    // 3D: motion confined to the x-y plane
+  PetscReal dt_factor     = 0.1;                                           // dt = dt_factor * t_cr
+  PetscReal skin          = 0.1;                                           // Verlet skin in largest diameters
+  PetscInt  sort_interval = 0;                                             // rebuilds between storage sorts; 0: automatic
+  PetscInt  max_contacts  = 16;                                            // history slots per particle
+  PetscBool pseudo2d      = PETSC_FALSE;                                   // 3D: motion confined to the x-y plane
 
   kernels::LsdModel pp, pw;                  // particle-particle and particle-wall contact models
   PetscReal         t_cr = 0, t_cr_wall = 0; // contact durations of the lightest pair / particle on a wall, s

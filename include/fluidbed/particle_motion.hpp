@@ -34,6 +34,7 @@ struct ParticleLoss {
 // contacts and overlaps.
 struct DemStats {
   PetscInt64   rebuilds        = 0;
+  PetscInt64   storage_sorts   = 0; // rebuilds that also sorted the local particles' storage (ParticlesSortLocal)
   PetscInt64   outlet_removed  = 0; // particles that left through the outlet (global, cumulative)
   PetscInt64   contacts        = 0; // contacts counted from both sides during the last force evaluation (local)
   PetscReal    max_overlap_rel = 0; // largest overlap / diameter since the last monitor row (local)

@@ -62,6 +62,7 @@ public:
     json->Integer("particles_outlet", (long long)DemGetStats(dem_)->outlet_removed);
     json->Integer("particles_lost", (long long)DemGetStats(dem_)->lost.count); // through a wall or in migration (the escape guard)
     json->Integer("neighbour_rebuilds", (long long)DemGetStats(dem_)->rebuilds);
+    json->Integer("storage_sorts", (long long)DemGetStats(dem_)->storage_sorts);
     json->Number("kinetic_energy", t.ke_trans + t.ke_rot);
     json->Number("contacts_per_particle", t.contacts_per_particle);
     json->Number("particle_steps_per_second", wall > 0 ? steps / wall : 0.0);

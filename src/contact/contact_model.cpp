@@ -70,6 +70,10 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
                         RealRange{0.0, 10.0, true, false}, &p->dt_factor, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it", "d",
                         Closed(0.01, 2.0), &p->skin, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-sort_interval",
+                       "Neighbour-list rebuilds between sorts of the particles' storage by neighbour bin (0: automatic, when a particle "
+                       "may have moved one bin since the last sort: 2 (d_max + skin) / skin rebuilds). Results do not depend on it",
+                       0, 1 << 30, &p->sort_interval, NULL));
   PetscCall(
     OptionsInt(PetscOptionsObject, "-max_contacts", "Contact history slots per particle (walls included)", 4, 128, &p->max_contacts, NULL));
   PetscCall(

@@ -1,18 +1,28 @@
 // The DEM step: the particles' motion (src/particles: kick-drift, rebuild: migrate, ghosts; ghost refresh; kick) around
 // the contact stage (neighbour lists, contact forces).
+#include <cmath>
+
 #include "dem_impl.hpp"
 
 namespace fluidbed {
 
 namespace {
 
-PetscErrorCode Rebuild(Dem *dem)
+// A rebuild sorts the storage (for the contact loop's locality) at set-up, for a checkpoint (so that the run and its
+// restart hold the same storage order) and every DemSortEvery rebuilds: between rebuilds a particle moves less than
+// half the skin, so the order of one sort serves many rebuilds, and a sort moves every field of every particle
+// (about 1 kB each with the contact histories). Nothing else depends on the storage order.
+PetscErrorCode Rebuild(Dem *dem, PetscBool force_sort)
 {
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(dem->log, PHASE_MIGRATE));
   PetscCall(DemSyncPairHistory(dem));
   PetscCall(ParticlesMigrate(dem));
-  PetscCall(ParticlesSortLocal(dem));
+  if (force_sort || ++dem->rebuilds_since_sort >= dem->sort_every) {
+    PetscCall(ParticlesSortLocal(dem));
+    dem->rebuilds_since_sort = 0;
+    dem->stats.storage_sorts++;
+  }
   PetscCall(PhaseEnd(dem->log, PHASE_MIGRATE));
   PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
   PetscCall(ParticlesPackBodies(dem));
@@ -26,10 +36,15 @@ PetscErrorCode Rebuild(Dem *dem)
 
 } // namespace
 
+PetscInt DemSortEvery(const DemParams &par)
+{
+  return par.sort_interval > 0 ? par.sort_interval : (PetscInt)std::ceil(2.0 * (1.0 + par.skin) / par.skin - 1e-9);
+}
+
 PetscErrorCode DemRebuild(Dem *dem)
 {
   PetscFunctionBeginUser;
-  PetscCall(Rebuild(dem));
+  PetscCall(Rebuild(dem, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
@@ -41,7 +56,8 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
   PetscCall(DemParamsSetFromOptions(comm, dom, props, &d->par));
   PetscCall(ContactModelGet(d->par.contact_model, &d->contact));
   PetscCall(ParticleSystemSetUp(comm, dom, pgrid, props, log, d->par.dt, d->par.pseudo2d, d->par.skin * props.d_max, d));
-  *dem = d;
+  d->sort_every = DemSortEvery(d->par);
+  *dem          = d;
   PetscFunctionReturn(0);
 }
 
@@ -57,7 +73,7 @@ PetscErrorCode DemSetUp(Dem *dem, DM swarm, PetscBool restart)
 {
   PetscFunctionBeginUser;
   dem->swarm = swarm;
-  PetscCall(Rebuild(dem));
+  PetscCall(Rebuild(dem, PETSC_TRUE));
   if (restart) PetscFunctionReturn(0);
   PetscCall(PhaseBegin(dem->log, PHASE_CONTACT));
   PetscCall(DemContactForces(dem));
@@ -84,7 +100,7 @@ PetscErrorCode DemStep(Dem *dem)
     dem->stats.halted = PETSC_TRUE;
     PetscFunctionReturn(0);
   }
-  if (any[0]) PetscCall(Rebuild(dem));
+  if (any[0]) PetscCall(Rebuild(dem, PETSC_FALSE));
   else {
     PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
     PetscCall(ParticlesPackBodies(dem));
