@@ -3,7 +3,6 @@
 #include "fluidbed/kernels/bed_statistics.hpp"
 
 #include <array>
-#include <cmath>
 #include <string>
 
 namespace fluidbed {
@@ -127,7 +126,7 @@ PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *val
   std::vector<PetscReal> pl(points.size(), 0.0), pg(points.size());
   for (std::size_t q = 0; q < points.size(); ++q) {
     PetscInt c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) c[d] = PetscMin(PetscMax((PetscInt)std::floor((points[q][d] - dom.lo[d]) / grid.h[d]), 0), grid.n[d] - 1);
+    for (int d = 0; d < dim; ++d) c[d] = kernels::axis_cell(g, d, points[q][d]);
     if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2])
       pl[q] = at(c[0], c[1], c[2]);
   }
