@@ -69,14 +69,8 @@ struct Dem : ParticleSystem {
   ContactModel                     contact; // the model -dem_contact_model names
   NeighbourList                    nl;
   std::vector<ContactContribution> contributions;           // this step's, per pair (ContactPair::out); zero when the pair is apart
-  PetscInt                         sort_every          = 1; // rebuilds between storage sorts (DemSortEvery)
-  PetscInt                         rebuilds_since_sort = 0;
+  PetscInt                         rebuilds_since_sort = 0; // list rebuilds since the storage was last sorted
 };
-
-// Rebuilds between sorts of the storage: -dem_sort_interval, or with 0 the rebuilds after which a particle may have
-// moved one neighbour bin (d_max + skin) since the last sort. Between rebuilds no particle moves more than half the
-// skin, so that is 2 (d_max + skin) / skin rebuilds (22 at the default skin of 0.1 d).
-PetscInt DemSortEvery(const DemParams &par);
 
 // Pieces of the contact step (src/contact), exposed for tests and the coupled solver.
 PetscErrorCode DemNeighbourBuild(Dem *dem);

@@ -8,8 +8,16 @@ namespace fluidbed {
 
 namespace {
 
+// Rebuilds between sorts of the storage: -dem_sort_interval, or with 0 the rebuilds after which a particle may have
+// moved one neighbour bin (d_max + skin) since the last sort. Between rebuilds no particle moves more than half the
+// skin, so that is 2 (d_max + skin) / skin rebuilds (22 at the default skin of 0.1 d).
+PetscInt SortEvery(const DemParams &par)
+{
+  return par.sort_interval > 0 ? par.sort_interval : (PetscInt)std::ceil(2.0 * (1.0 + par.skin) / par.skin - 1e-9);
+}
+
 // A rebuild sorts the storage (for the contact loop's locality) at set-up, for a checkpoint (so that the run and its
-// restart hold the same storage order) and every DemSortEvery rebuilds: between rebuilds a particle moves less than
+// restart hold the same storage order) and every SortEvery rebuilds: between rebuilds a particle moves less than
 // half the skin, so the order of one sort serves many rebuilds, and a sort moves every field of every particle
 // (about 1 kB each with the contact histories). Nothing else depends on the storage order.
 PetscErrorCode Rebuild(Dem *dem, PetscBool force_sort)
@@ -18,7 +26,7 @@ PetscErrorCode Rebuild(Dem *dem, PetscBool force_sort)
   PetscCall(PhaseBegin(dem->log, PHASE_MIGRATE));
   PetscCall(DemSyncPairHistory(dem));
   PetscCall(ParticlesMigrate(dem));
-  if (force_sort || ++dem->rebuilds_since_sort >= dem->sort_every) {
+  if (force_sort || ++dem->rebuilds_since_sort >= SortEvery(dem->par)) {
     PetscCall(ParticlesSortLocal(dem));
     dem->rebuilds_since_sort = 0;
     dem->stats.storage_sorts++;
@@ -36,11 +44,6 @@ PetscErrorCode Rebuild(Dem *dem, PetscBool force_sort)
 
 } // namespace
 
-PetscInt DemSortEvery(const DemParams &par)
-{
-  return par.sort_interval > 0 ? par.sort_interval : (PetscInt)std::ceil(2.0 * (1.0 + par.skin) / par.skin - 1e-9);
-}
-
 PetscErrorCode DemRebuild(Dem *dem)
 {
   PetscFunctionBeginUser;
@@ -56,8 +59,7 @@ PetscErrorCode DemCreate(MPI_Comm comm, const Domain &dom, const ParticleGrid &p
   PetscCall(DemParamsSetFromOptions(comm, dom, props, &d->par));
   PetscCall(ContactModelGet(d->par.contact_model, &d->contact));
   PetscCall(ParticleSystemSetUp(comm, dom, pgrid, props, log, d->par.dt, d->par.pseudo2d, d->par.skin * props.d_max, d));
-  d->sort_every = DemSortEvery(d->par);
-  *dem          = d;
+  *dem = d;
   PetscFunctionReturn(0);
 }
 
