@@ -59,6 +59,8 @@ PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &domain, PetscReal d_max,
 PetscErrorCode GridsDestroy(Grids *grids);
 // The box of n[0] x n[1] (x n[2]) cells over the domain (a grid's cell counts), as the kernels measure it.
 kernels::CellGrid GridsCellGrid(const Domain &domain, const PetscInt n[3]);
+// The -pgrid_layout name of a layout ("horizontal", "petsc", "particles").
+const char *GridsLayoutName(GridLayout layout);
 // This rank's fluid cells and the halo cells its star stencil receives from neighbouring ranks.
 PetscErrorCode GridsLocalCells(const Grids &grids, PetscInt64 *owned, PetscInt64 *halo);
 PetscErrorCode GridsView(const Grids &grids, const Domain &domain, PetscViewer viewer);

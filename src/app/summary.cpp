@@ -32,7 +32,7 @@ PetscErrorCode DecompositionAddSummary(const Simulation *sim, JsonWriter *json)
   for (PetscMPIInt r = 0; r < size; ++r)
     for (int k = 0; k < 4; ++k) col[k].push_back((long long)all[4 * (size_t)r + k]);
   d.IntegerArray("process_grid", {(long long)pg.procs[0], (long long)pg.procs[1], (long long)pg.procs[2]});
-  d.String("layout", pg.layout == GRID_LAYOUT_PETSC ? "petsc" : pg.layout == GRID_LAYOUT_PARTICLES ? "particles" : "horizontal");
+  d.String("layout", GridsLayoutName(pg.layout));
   d.IntegerArray("particles_per_rank", col[0]);
   d.IntegerArray("ghost_particles_per_rank", col[1]);
   d.IntegerArray("fluid_cells_per_rank", col[2]);

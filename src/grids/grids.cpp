@@ -155,6 +155,11 @@ kernels::CellGrid GridsCellGrid(const Domain &dom, const PetscInt n[3])
                             (int)n[2]);
 }
 
+const char *GridsLayoutName(GridLayout layout)
+{
+  return LayoutNames[layout];
+}
+
 PetscErrorCode GridsCreate(MPI_Comm comm, const Domain &dom, PetscReal d_max, Grids *g, const InitialPoints &points, PetscBool gas)
 {
   FluidGrid    &fg    = g->fluid;
