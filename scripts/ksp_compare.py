@@ -545,7 +545,8 @@ class Worker:
                                                              ",".join(str(s["meta"]["step"]) for s in syss)))
         for idx, name in enumerate(solvers):
             spec = SOLVERS[name]
-            if meta0["cells"] > spec.get("max_cells", 1 << 60):
+            if meta0["cells"] > spec.get("max_cells", 1 << 60) and not args.no_size_limits:
+                self.notes.append("%s: %s skipped: %d cells, above its limit of %d (--no-size-limits runs it)" % (scene, name, meta0["cells"], spec["max_cells"]))
                 continue
             structured = spec.get("mat") == "hyprestruct"
             if structured and any(meta0["periodic"]):
@@ -990,6 +991,8 @@ def main():
     ap.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (the run's default 1e-8)")
     ap.add_argument("--max-it", type=int, default=5000, help="iteration limit")
     ap.add_argument("--max-cells", type=int, default=1 << 40, help="skip systems larger than this")
+    ap.add_argument("--no-size-limits", action="store_true",
+                    help="run solvers with a size limit of their own (point Jacobi: 40,000 cells) on larger systems too")
     ap.add_argument("--spectra", action="store_true", help="SLEPc spectra of the preconditioned operators and of the matrix (1 rank)")
     ap.add_argument("--spectra-max-cells", type=int, default=200000, help="largest system for --spectra (default 200000)")
     ap.add_argument("--dense-max", type=int, default=2500, help="largest system whose whole spectrum is computed densely (default 2500)")
@@ -1036,7 +1039,7 @@ def main():
                    "--steps", str(args.steps), "--repeat", str(args.repeat), "--rtol", str(args.rtol), "--max-it", str(args.max_it), "--max-cells", str(args.max_cells),
                    "--spectra-max-cells", str(args.spectra_max_cells)] + (["--derive", args.derive] if args.derive else []) + [
                     "--dense-max", str(args.dense_max), "--eps-max-it", str(args.eps_max_it)]
-            cmd += ["--no-reuse"] * args.no_reuse + ["--spectra"] * (args.spectra and n == 1) + ["--quiet"] * args.quiet + list(args.dumps)
+            cmd += ["--no-reuse"] * args.no_reuse + ["--no-size-limits"] * args.no_size_limits + ["--spectra"] * (args.spectra and n == 1) + ["--quiet"] * args.quiet + list(args.dumps)
             if args.petsc_options:
                 cmd += ["--petsc-options"] + args.petsc_options
             if n > 1:

@@ -12,8 +12,13 @@ count are kept, which --merge cannot do), and writes
   ksp_compare.py draws them), iterations against grid size per family of refined scenes, condition numbers against
   the face-coefficient contrast, and the cost per simulated second per solver.
 
+With --keep-csv the rows already in the CSVs that belong to parts not given here are kept (the parts given replace
+their own rows), so a part run later, on another machine whose bench/ holds only that part, adds to the tables
+instead of replacing them; the figures drawn from the tables (iterations against size, condition numbers, cost) then
+use every row, and the histories and spectra are drawn for the parts given.
+
 Usage: scripts/ksp_report.py bench/ksp/cmp_*/ksp_compare.json [--csv docs/ksp] [--figures docs/figures]
-[--history SCENE,...] [--spectrum SCENE,...] [--cost SCENE,...]"""
+[--history SCENE,...] [--spectrum SCENE,...] [--cost SCENE,...] [--keep-csv]"""
 import argparse
 import csv
 import json
@@ -25,6 +30,7 @@ import tempfile
 import numpy as np
 
 import ksp_compare as kc  # numpy only at import
+from fluidbed_tools import study
 
 
 def load_parts(paths):
@@ -63,21 +69,28 @@ def main():
     ap.add_argument("--history", default="", help="scenes whose convergence history is drawn (default all)")
     ap.add_argument("--spectrum", default="", help="scenes whose spectra are drawn (default all)")
     ap.add_argument("--cost", default="", help="scenes in the cost figure (default all but refinement families); the main solvers only")
+    ap.add_argument("--keep-csv", action="store_true", help="keep the rows of the existing CSVs that belong to other parts")
     args = ap.parse_args()
     parts = load_parts(args.results)
+    new_parts = set(p["_name"] for p in parts)
+
+    def old(table):
+        return study.kept_rows(os.path.join(args.csv, table + ".csv"), lambda r: r["part"] not in new_parts) if args.keep_csv else []
     os.makedirs(args.csv, exist_ok=True)
     os.makedirs(args.figures, exist_ok=True)
 
     # runs: one line per part and rank count
-    runs = []
+    runs = old("runs")
     for p in parts:
         for k, v in sorted(p.get("load", {}).items()):
             runs.append(dict(part=p["_name"], date=p.get("date"), ranks=int(k), load_before=float(v[0]), load_after=float(v[1]),
                              argv=re.sub(r"\S*/(bench/|scripts/)", r"\1", " ".join(p.get("argv", [])))))  # paths from the repository root
+    runs.sort(key=lambda r: (r["part"], r["ranks"]))
     write_csv(os.path.join(args.csv, "runs.csv"), runs, ["part", "date", "ranks", "load_before", "load_after", "argv"])
 
     # systems (one line per scene and step, smallest rank count)
-    systems, seen = [], set()
+    systems = old("systems")
+    seen = set((s["scene"], s["step"]) for s in systems)
     for p in parts:
         for s in p["systems"]:
             key = (s["scene"], s["step"])
@@ -91,7 +104,7 @@ def main():
                "coef_contrast", "run_pc_type", "run_ksp_iterations", "dumped_solution_rel_residual", "reassembly_vs_dumped", "part"])
 
     # solvers: the summary of each part, with its load
-    solvers = []
+    solvers = old("solvers")
     for p in parts:
         for r in kc.summarise(p["records"], 1e-8):
             ld = p.get("load", {}).get(str(r["ranks"]))
@@ -105,7 +118,7 @@ def main():
 
     # spectra of the preconditioned operators, with the system's contrast
     contrast = {(s["scene"], s["step"]): s for s in systems}
-    spectra = []
+    spectra = old("spectra")
     for p in parts:
         for s in p["spectra"]:
             c = contrast.get((s["scene"], s["step"]), {})
@@ -113,7 +126,7 @@ def main():
     write_csv(os.path.join(args.csv, "spectra.csv"), spectra,
               ["scene", "step", "cells", "model", "eps_min", "coef_contrast", "solver", "slepc_min", "slepc_max", "slepc_cond", "slepc_min_converged",
                "slepc_max_converged", "dense_min", "dense_max", "dense_cond", "dense_method", "slepc_s", "part"])
-    matrix = []
+    matrix = old("matrix")
     for p in parts:
         for s in p["matrix_spectra"]:
             c = contrast.get((s["scene"], s["step"]), {})

@@ -248,6 +248,9 @@ def main():
     ap.add_argument("--exe", default=run.EXE)
     ap.add_argument("--fresh", action="store_true", help="run every point again (its cost measured anew), even if finished")
     ap.add_argument("--ci", action="store_true", help="the bounce at three time steps")
+    ap.add_argument("--only", default="", help="comma-separated point ids (as in the table's id column) to run, in this order; default all")
+    ap.add_argument("--keep-csv", action="store_true",
+                    help="keep the rows of the existing --csv table that this run does not produce (a study continued on a fresh machine)")
     ap.add_argument("--report", action="store_true", help="tabulate and draw the finished points only (runs nothing)")
     ap.add_argument("--stability-csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"),
                     help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
@@ -274,6 +277,14 @@ def main():
 
     rows = []
     pts = points(problems, args.ci)
+    if args.only:
+        order = [x for x in args.only.split(",") if x]
+        known = {point_id(pt[0], pt[2]): pt for pt in pts}
+        unknown = [x for x in order if x not in known]
+        if unknown:
+            raise SystemExit("speed_accuracy.py: --only names no point of --problems %s: %s (known: %s)" % (",".join(problems), ",".join(unknown),
+                                                                                                          ",".join(sorted(known))))
+        pts = [known[x] for x in order]
     if args.report:
         pts = [pt for pt in pts if run.done(PROBLEMS[pt[0]]["options"](pt[2]), os.path.join(args.out, point_id(pt[0], pt[2])), args.ranks, args.exe)]
     for pt, (row, reused) in study.run_all(pts, args.jobs, work):
@@ -283,6 +294,13 @@ def main():
             rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
     if derived:
         rows += jet2d_rows(args.stability_csv)
+    if args.keep_csv:
+        have = set(r["id"] for r in rows)
+        rows += study.kept_rows(args.csv, lambda r: r["id"] not in have)
+        for r in rows:  # the kept rows' empty cells as the new rows have them
+            for k in ("error", "uncertainty", "cost"):
+                if r.get(k) is None:
+                    r[k] = float("nan")
     pareto(rows)
     rows.sort(key=lambda r: (r["problem"], r["knob"], r["id"]))
     keys = ["problem", "knob", "id", "cell", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",

@@ -4,6 +4,7 @@ where it stopped and can be extended on more cores). The stability map (scripts/
 study (scripts/speed_accuracy.py) and strong scaling (scripts/strong_scaling.py) use it; the command line and the
 finished-run test are run.point_command and run.finished_run."""
 import concurrent.futures
+import csv
 import json
 import os
 import shutil
@@ -53,6 +54,31 @@ def run_all(points, jobs, worker):
         futures = {pool.submit(worker, p): p for p in points}
         for fut in concurrent.futures.as_completed(futures):
             yield futures[fut], fut.result()
+
+
+def parse_cell(v):
+    """A CSV cell back to a number, a flag or None; other text (grids such as 175x200x5, names) stays text."""
+    if v is None or v == "":
+        return None
+    if v in ("True", "False"):
+        return v == "True"
+    for conv in (int, float):
+        try:
+            return conv(v)
+        except ValueError:
+            pass
+    return v
+
+
+def kept_rows(path, keep):
+    """The rows of an existing CSV table, their cells parsed, for which keep(row) is true; none where there is no
+    table. A study run on a fresh machine, whose working directory holds only this session's points, adds its rows to
+    the committed table this way instead of replacing the rows of earlier sessions."""
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        rows = [{k: parse_cell(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    return [r for r in rows if keep(r)]
 
 
 def log(message):

@@ -2,6 +2,7 @@
 #include "fluidbed/checkpoint_check.hpp"
 #include "fluidbed/options.hpp"
 
+#include <cmath>
 #include <string>
 
 namespace fluidbed {
@@ -32,10 +33,16 @@ PetscErrorCode RunControlSetFromOptions(MPI_Comm comm, RunControl *r)
 
 std::string Duration(double s)
 {
+  // rounded to the unit shown first, so that 359.6 s reads 6 min 00 s, not 5 min 60 s
   char buf[64];
   if (s < 120) snprintf(buf, sizeof(buf), "%.0f s", s);
-  else if (s < 7200) snprintf(buf, sizeof(buf), "%.0f min %02.0f s", std::floor(s / 60), std::fmod(s, 60.0));
-  else snprintf(buf, sizeof(buf), "%.0f h %02.0f min", std::floor(s / 3600), std::fmod(s / 60, 60.0));
+  else if (s < 7200) {
+    const double r = std::round(s);
+    snprintf(buf, sizeof(buf), "%.0f min %02.0f s", std::floor(r / 60), std::fmod(r, 60.0));
+  } else {
+    const double m = std::round(s / 60);
+    snprintf(buf, sizeof(buf), "%.0f h %02.0f min", std::floor(m / 60), std::fmod(m, 60.0));
+  }
   return buf;
 }
 

@@ -11,7 +11,10 @@ they should be, and scripts/ksp_compare.py solves them.
 - The dump is in natural ordering: the 2-rank dump of step 3 equals the 1-rank one to round-off.
 - ksp_compare.py with CG + BoomerAMG and CG + ICC on the four steps (rebuild and reuse, zero and previous guess)
   converges in a finite number of iterations with the true residual at the tolerance; the operator assembled again
-  from the dumped void fraction and drag (--derive B) equals the dumped matrix."""
+  from the dumped void fraction and drag (--derive B) equals the dumped matrix.
+- scripts/ksp_report.py --keep-csv adds a part to the tables written from an earlier one, and a part given again
+  replaces its own rows."""
+import csv
 import glob
 import json
 import os
@@ -52,6 +55,21 @@ t.check(p.returncode == 0, "ksp_compare.py --derive B ran (exit %d)" % p.returnc
 sysm = json.load(open(os.path.join(res + "_derive", "ksp_compare.json")))["systems"][0]
 t.check(sysm["reassembly_vs_dumped"] < 1e-9, "the operator assembled again from the dumped eps and drag equals the dumped matrix: %.1e relative (the JSON carries h and dt to 10 digits)"
         % sysm["reassembly_vs_dumped"])
+
+# the report adds a part to the tables of earlier ones (--keep-csv) and replaces a part given again, without duplicates
+report = os.path.join(t.SRC, "scripts", "ksp_report.py")
+tables, figs = os.path.abspath("ksp_report_ci"), os.path.abspath("ksp_report_ci_figures")
+counts = []
+for parts in ([res], [res + "_derive"], [res + "_derive"]):
+    p = subprocess.run([sys.executable, report] + [os.path.join(x, "ksp_compare.json") for x in parts] + ["--csv", tables, "--figures", figs] +
+                       ["--keep-csv"] * (len(counts) > 0), capture_output=True, text=True, timeout=300)
+    t.check(p.returncode == 0, "ksp_report.py %s ran (exit %d) %s" % (os.path.basename(parts[0]), p.returncode, p.stderr[-500:]))
+    with open(os.path.join(tables, "solvers.csv")) as f:
+        rows = list(csv.DictReader(f))
+    counts.append(sorted((r["part"], r["solver"]) for r in rows))
+t.check(counts[0] == [("ksp_compare_ci", "cg_hypre"), ("ksp_compare_ci", "cg_icc")] and
+        counts[1] == counts[0] + [("ksp_compare_ci_derive", "cg_hypre")] and counts[2] == counts[1],
+        "solvers.csv: %d rows from the first part, %d after adding the second with --keep-csv, %d after giving it again" % tuple(len(c) for c in counts))
 
 # petsc4py initialises MPI: imported after the runs above, whose mpiexec must not inherit a singleton's environment
 try:
