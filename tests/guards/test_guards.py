@@ -5,8 +5,6 @@ value (the head-on overlap, a free particle's step) the guard's measured figure 
 import json
 import math
 import os
-import shutil
-import subprocess
 
 import h5py
 import numpy as np
@@ -56,13 +54,9 @@ def flagged_cells(out):
 
 def paraview(out):
     """The diagnostic snapshot as ParaView's XDMF reader loads it (pvbatch in a virtual X server): a list of blocks."""
-    pvbatch, xvfb = shutil.which("pvbatch"), shutil.which("xvfb-run")
-    if not (pvbatch and xvfb):
-        t.fail("pvbatch and xvfb-run are needed (scripts/test.sh installs paraview, python3-paraview, xvfb and xauth)")
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_diagnostic.py")
     result = os.path.join(out, "paraview.json")
-    # a display of this process's own range (the ParaView output test uses 100-499; see tests/io/test_paraview.py)
-    subprocess.run([xvfb, "-a", "-n", str(500 + os.getpid() % 400), pvbatch, script, os.path.join(out, "guard_failure.xmf"), result], capture_output=True, timeout=300)
+    t.pvbatch(script, [os.path.join(out, "guard_failure.xmf"), result], first_display=500)  # 500-899 (io_paraview: 100-499)
     if not os.path.isfile(result):
         t.fail("pvbatch could not open %s/guard_failure.xmf" % out)
     return json.load(open(result))

@@ -16,7 +16,7 @@ import os
 
 import numpy as np
 from paraview.simple import (Clip, ColorBy, CreateRenderView, ExtractSurface, GetColorTransferFunction, GetScalarBar, OpenDataFile, Render, SaveScreenshot,
-                             Show, Slice, XDMFReader)
+                             Show, Slice, Transform, XDMFReader)
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
 ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -115,6 +115,11 @@ def save_picture(box):
         front.ClipType.Normal = [0, 0, 1]
         front.Invert = 0
         particles = front
+    else:  # 2D: the particles lie in the plane of the gas grid; a diameter towards the camera (parallel projection:
+        # drawn at the same x, y), so that no depth test between the points and the cells decides what shows
+        lifted = Transform(Input=particles)
+        lifted.Transform.Translate = [0, 0, diameter]
+        particles = lifted
     shown = Show(field, view)
     shown.Ambient, shown.Diffuse = 1.0, 0.0  # unlit: each cell in its colour map's colour
     ColorBy(shown, ("CELLS", "void_fraction"))
@@ -123,12 +128,14 @@ def save_picture(box):
     lut.RescaleTransferFunction(0.3, 1.0)
     shown.SetScalarBarVisibility(view, True)
     GetScalarBar(lut, view).WindowLocation = "Upper Right Corner"  # over the freeboard, clear of the bed
-    # Points (as spheres) rather than Point Gaussian: ParaView draws points in front of coincident polygons, and in
-    # 2D the particles lie in the plane of the gas grid. 70 % of a diameter across: the void fraction shows between.
+    # Points (as spheres) rather than Point Gaussian, 70 % of a diameter across: the void fraction shows between.
     dots = Show(particles, view)
     dots.SetRepresentationType("Points")
     dots.ColorArrayName = ["POINTS", ""]
     dots.AmbientColor = dots.DiffuseColor = [1.0, 1.0, 1.0]
+    # unlit, like the cells: flat white disks whatever lights the renderer sets (lit spheres came out white on a
+    # tenth of their area on one machine and a fiftieth on another)
+    dots.Ambient, dots.Diffuse, dots.Specular = 1.0, 0.0, 0.0
     dots.RenderPointsAsSpheres = 1
     dots.PointSize = max(2.0, 0.7 * diameter * height / (box[3] - box[2]))
     Render(view)  # the first render resets the camera: place it after

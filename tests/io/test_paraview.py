@@ -9,8 +9,6 @@ does the ParaView side."""
 import glob
 import json
 import os
-import shutil
-import subprocess
 import time
 
 import h5py
@@ -20,13 +18,6 @@ import numpy as np
 from fluidbed_tools import testing as t
 
 CHECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_check.py")
-INSTALL = ("scripts/test.sh installs them (FLUIDBED_TEST_PACKAGES in scripts/setup.sh), or: "
-           "apt-get install --no-install-recommends paraview python3-paraview xvfb xauth")
-PVBATCH, XVFB = shutil.which("pvbatch"), shutil.which("xvfb-run")
-missing = [name for name, path in (("pvbatch", PVBATCH), ("xvfb-run", XVFB)) if not path]
-if missing:
-    t.fail("%s not installed (not on PATH): this test opens the output in ParaView's pvbatch in a virtual X server; %s" % (
-        " and ".join(missing) + (" is" if len(missing) == 1 else " are"), INSTALL))
 
 scenes = [  # (label, options file, arguments, dim)
     ("2D default scene", t.example("jetted_bed_2d.opts"),
@@ -76,21 +67,9 @@ for label, opts, args, dim in scenes:
     # ParaView
     report, picture = os.path.join(out, "paraview.json"), os.path.join(out, "particles_over_void_fraction.png")
     start = time.time()
-    # xvfb-run -a takes the first display from -n on that has no lock file. Start from one of this process's own
-    # (the guards test uses another range), so that two tests started together, or a server left running without its
-    # lock file by an earlier run, do not make pvbatch meet a server that is not its own ("bad X server connection")
-    # A virtual X server that does not accept pvbatch's connection ("bad X server connection", seen on a loaded machine
-    # about one start in three) says nothing about the files: try another server, at most three times.
-    for attempt in range(3):
-        p = subprocess.run([XVFB, "-a", "-n", str(100 + (os.getpid() + 7 * attempt) % 400), PVBATCH, CHECK, out, report, picture,
-                            "--box=" + ",".join("%.17g" % v for v in box)], capture_output=True, text=True, timeout=300)
-        if "bad X server connection" not in p.stdout + p.stderr:
-            break
-        print("the virtual X server refused pvbatch (attempt %d of 3)" % (attempt + 1))
+    p = t.pvbatch(CHECK, [out, report, picture, "--box=" + ",".join("%.17g" % v for v in box)], first_display=100)  # 100-499
     pv_s = time.time() - start
     text = p.stdout + p.stderr
-    if "No module named 'paraview'" in text:
-        t.fail("pvbatch has no Python module paraview (Debian's python3-paraview is missing): " + INSTALL)
     if p.returncode or not os.path.isfile(report):
         print(text[-4000:])
         t.fail("%s: pvbatch %s exited with status %d and no report" % (label, CHECK, p.returncode))
