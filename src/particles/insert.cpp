@@ -4,7 +4,10 @@
 #include "fluidbed/options.hpp"
 #include "fluidbed/kernels/packing.hpp"
 
+#include <petscviewerhdf5.h>
+
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -68,6 +71,82 @@ PetscErrorCode ReadParticleCSV(MPI_Comm comm, const char *path, GlobalParticles 
   PetscFunctionReturn(0);
 }
 
+// Reads the /particles group of a snapshot or checkpoint HDF5 file a run wrote (position, diameter, and where
+// present id, velocity, omega): a run on another grid, time step or model can start from any saved moment of an
+// earlier run. Every rank reads the whole file, as for a CSV file.
+PetscErrorCode ReadParticleHDF5(MPI_Comm comm, const char *path, GlobalParticles *g)
+{
+  PetscViewer viewer;
+  PetscBool   exists, has;
+  PetscInt    n = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTestFile(path, 'r', &exists));
+  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-insert_file: cannot open %s", path);
+  PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, path, FILE_MODE_READ, &viewer));
+  // a dataset of /particles: the numbers of columns it may have (positions one per dimension: 2D files hold x, y),
+  // whether every file has it, where it goes
+  struct Column {
+    const char          *name, *widths;
+    bool                 required;
+    std::vector<double> *flat;
+  };
+  std::vector<double> pos, vel, omg, dia, ids;
+  const Column        columns[] = {{"position", "23", true, &pos},
+                                   {"diameter", "1", true, &dia},
+                                   {"id", "1", false, &ids},
+                                   {"velocity", "3", false, &vel},
+                                   {"omega", "3", false, &omg}};
+  for (const Column &c : columns) {
+    std::string name = std::string("/particles/") + c.name;
+    PetscCall(PetscViewerHDF5HasDataset(viewer, name.c_str(), &has));
+    PetscCheck(has || !c.required, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-insert_file %s has no dataset %s (a fluidbed snapshot or checkpoint has)", path, name.c_str());
+    if (!has) continue;
+    Vec                v;
+    const PetscScalar *a;
+    PetscInt           N, bs;
+    PetscCall(VecCreate(PETSC_COMM_SELF, &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, name.c_str()));
+    PetscCall(VecLoad(v, viewer)); // the block size from the dataset's columns
+    PetscCall(VecGetSize(v, &N));
+    PetscCall(VecGetBlockSize(v, &bs));
+    PetscCheck(bs < 10 && std::strchr(c.widths, '0' + (int)bs), comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-insert_file %s: %s has %d columns, expected %s", path, name.c_str(), (int)bs, c.widths[1] ? "2 or 3" : c.widths);
+    PetscCheck(n < 0 || N / bs == n, comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s: %s has %d rows, position %d", path, name.c_str(),
+               (int)(N / bs), (int)n);
+    n = N / bs;
+    PetscCall(VecGetArrayRead(v, &a));
+    if (bs == 2) { // 2D positions: z = 0
+      c.flat->assign(3 * n, 0.0);
+      for (PetscInt i = 0; i < n; ++i)
+        for (PetscInt k = 0; k < 2; ++k) (*c.flat)[3 * i + k] = a[2 * i + k];
+    } else c.flat->assign(a, a + N);
+    PetscCall(VecRestoreArrayRead(v, &a));
+    PetscCall(VecDestroy(&v));
+  }
+  PetscCall(PetscViewerDestroy(&viewer));
+  for (PetscInt i = 0; i < n; ++i) {
+    g->x.push_back({pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]});
+    g->v.push_back(vel.empty() ? Vec3{} : Vec3{vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]});
+    g->w.push_back(omg.empty() ? Vec3{} : Vec3{omg[3 * i], omg[3 * i + 1], omg[3 * i + 2]});
+    g->d.push_back(dia[i]);
+    g->id.push_back(ids.empty() ? (PetscInt64)i : (PetscInt64)std::llround(ids[i]));
+  }
+  PetscFunctionReturn(0);
+}
+
+// -insert_file: a fluidbed HDF5 snapshot or checkpoint (.h5) or a CSV file.
+PetscErrorCode ReadParticleFile(MPI_Comm comm, const char *path, GlobalParticles *g)
+{
+  const std::string p(path);
+
+  PetscFunctionBeginUser;
+  if (p.size() > 3 && p.compare(p.size() - 3, 3, ".h5") == 0) PetscCall(ReadParticleHDF5(comm, path, g));
+  else PetscCall(ReadParticleCSV(comm, path, g));
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode ParticlesInitialPositions(MPI_Comm comm, std::vector<PetscReal> *xyz, PetscBool *known)
@@ -84,7 +163,7 @@ PetscErrorCode ParticlesInitialPositions(MPI_Comm comm, std::vector<PetscReal> *
   PetscCall(PetscOptionsGetString(NULL, NULL, "-insert_file", file, sizeof(file), NULL));
   if ((InsertType)type != INSERT_FILE || !file[0]) PetscFunctionReturn(0);
   GlobalParticles g;
-  PetscCall(ReadParticleCSV(comm, file, &g));
+  PetscCall(ReadParticleFile(comm, file, &g));
   xyz->reserve(3 * g.x.size());
   for (const Vec3 &x : g.x) xyz->insert(xyz->end(), {x.x, x.y, x.z});
   *known = PETSC_TRUE;
@@ -139,8 +218,10 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
                              &nlomg, PETSC_FALSE, &set_lomg));
   PetscCall(OptionsRealArray(PetscOptionsObject, "-diameters", "list: diameters [m] (default -particle_diameter)", "", AnyReal(),
                              ldiam.data(), &nldiam, PETSC_FALSE, &set_ldiam));
-  PetscCall(OptionsString(PetscOptionsObject, "-file", "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv)",
-                          "a CSV file", file, sizeof(file), NULL));
+  PetscCall(OptionsString(
+    PetscOptionsObject, "-file",
+    "file: CSV with columns x,y,z,d[,id,vx,vy,vz,wx,wy,wz] (a run's particles.csv), or a run's snapshot or checkpoint .h5 (its /particles)",
+    "a CSV file", file, sizeof(file), NULL));
   PetscOptionsEnd();
   if (!set_lpos) npos = 0; // not given: no list
 
@@ -201,7 +282,7 @@ PetscErrorCode ParticlesInsert(MPI_Comm comm, const Domain &dom, const ParticleG
     }
   } else {
     PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-insert_type file needs -insert_file");
-    PetscCall(ReadParticleCSV(comm, file, &g));
+    PetscCall(ReadParticleFile(comm, file, &g));
     report->file = file;
   }
 
