@@ -17,13 +17,18 @@
 #                step of 2.3e-6 s on this grid and 1.1e-6 s on the refined one: the example's 5.84e-6 s (t_cr/10) stops
 #                on the Courant guard after 50 steps, so both run at -dem_dt_factor 0.015 (8.76e-7 s)
 #   bed750_1m    the same bed on 350 x 400 x 7 = 980,000 cells: steps 1-4 (RANKS ranks)
-# Environment: FLUIDBED_EXE (build/fluidbed), RANKS (1; the million-cell scene 2), REFINE (the refinement factors of
+#   bed750_spout the same bed on its 175 x 200 x 5 grid while it spouts: the particles of a moment of the bed spouting
+#                on the coarse 105 x 150 x 3 grid ($FLUIDBED_SPOUT750, a snapshot .h5 or particles.csv of that run,
+#                docs/ksp.md) with their velocities, the gas starting at rest; steps 1-4 and 301-308 (the gas through
+#                the spout established) at the example's t_cr/20
+# Environment: FLUIDBED_EXE (build/fluidbed), FLUIDBED_SETTLED750 and FLUIDBED_SPOUT750 (the beds above), RANKS (1; the million-cell scene 2), REFINE (the refinement factors of
 # jet2d_refine, default "1 2 4"; REFINE=4 writes only the finest).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=${FLUIDBED_EXE:-$ROOT/build/fluidbed}
 DIR=${FLUIDBED_KSP_DIR:-$ROOT/bench/ksp/dumps}
 SETTLED=${FLUIDBED_SETTLED750:-$ROOT/bench/ksp/settled750/particles.csv}
+SPOUT=${FLUIDBED_SPOUT750:-}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 mkdir -p "$DIR"
 
@@ -89,6 +94,12 @@ scene_bed750_1m() {
   [[ -f $SETTLED ]] || { echo "no settled bed at $SETTLED (FLUIDBED_SETTLED750)" >&2; return 1; }
   run bed750_1m "${RANKS:-2}" -options_file "$ROOT/examples/twogrid_750_jet1_u301.opts" -insert_type file -insert_file "$SETTLED" \
     -dem_dt_factor 0.015 -grid_nx 350 -grid_ny 400 -grid_nz 7 -pgrid_ratio 14,4,7 -max_steps 4 -fluid_p_dump_steps 1-5 -fluid_output_cells 0
+}
+
+scene_bed750_spout() {
+  [[ -n $SPOUT && -f $SPOUT ]] || { echo "no spouting bed at '$SPOUT' (FLUIDBED_SPOUT750: a snapshot of the coarse-grid run, docs/ksp.md)" >&2; return 1; }
+  run bed750_spout "${RANKS:-1}" -options_file "$ROOT/examples/twogrid_750_jet1_u301.opts" -insert_type file -insert_file "$SPOUT" \
+    -domain_top_outlet 0 -max_steps 308 -fluid_p_dump_steps 1-5,301-309
 }
 
 scenes=("$@")
