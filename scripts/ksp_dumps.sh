@@ -21,8 +21,9 @@
 #                on the coarse 105 x 150 x 3 grid ($FLUIDBED_SPOUT750, a snapshot .h5 or particles.csv of that run,
 #                docs/ksp.md) with their velocities, the gas starting at rest; steps 1-4 and 301-308 (the gas through
 #                the spout established) at the example's t_cr/20
-# Environment: FLUIDBED_EXE (build/fluidbed), FLUIDBED_SETTLED750 and FLUIDBED_SPOUT750 (the beds above), RANKS (1; the million-cell scene 2), REFINE (the refinement factors of
-# jet2d_refine, default "1 2 4"; REFINE=4 writes only the finest).
+# Environment: FLUIDBED_EXE (build/fluidbed), FLUIDBED_SETTLED750 and FLUIDBED_SPOUT750 (the beds above), RANKS (1;
+# the million-cell scene 2), REFINE (the refinement factors of jet2d_refine, default "1 2 4"; REFINE=4 writes only
+# the finest).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 EXE=${FLUIDBED_EXE:-$ROOT/build/fluidbed}

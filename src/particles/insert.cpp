@@ -7,7 +7,6 @@
 #include <petscviewerhdf5.h>
 
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -87,16 +86,17 @@ PetscErrorCode ReadParticleHDF5(MPI_Comm comm, const char *path, GlobalParticles
   // a dataset of /particles: the numbers of columns it may have (positions one per dimension: 2D files hold x, y),
   // whether every file has it, where it goes
   struct Column {
-    const char          *name, *widths;
+    const char          *name;
+    PetscInt             min_bs, max_bs;
     bool                 required;
     std::vector<double> *flat;
   };
   std::vector<double> pos, vel, omg, dia, ids;
-  const Column        columns[] = {{"position", "23", true, &pos},
-                                   {"diameter", "1", true, &dia},
-                                   {"id", "1", false, &ids},
-                                   {"velocity", "3", false, &vel},
-                                   {"omega", "3", false, &omg}};
+  const Column        columns[] = {{"position", 2, 3, true, &pos},
+                                   {"diameter", 1, 1, true, &dia},
+                                   {"id", 1, 1, false, &ids},
+                                   {"velocity", 3, 3, false, &vel},
+                                   {"omega", 3, 3, false, &omg}};
   for (const Column &c : columns) {
     std::string name = std::string("/particles/") + c.name;
     PetscCall(PetscViewerHDF5HasDataset(viewer, name.c_str(), &has));
@@ -111,8 +111,9 @@ PetscErrorCode ReadParticleHDF5(MPI_Comm comm, const char *path, GlobalParticles
     PetscCall(VecLoad(v, viewer)); // the block size from the dataset's columns
     PetscCall(VecGetSize(v, &N));
     PetscCall(VecGetBlockSize(v, &bs));
-    PetscCheck(bs < 10 && std::strchr(c.widths, '0' + (int)bs), comm, PETSC_ERR_FILE_UNEXPECTED,
-               "-insert_file %s: %s has %d columns, expected %s", path, name.c_str(), (int)bs, c.widths[1] ? "2 or 3" : c.widths);
+    const std::string widths = std::to_string(c.min_bs) + (c.max_bs > c.min_bs ? " or " + std::to_string(c.max_bs) : "");
+    PetscCheck(bs >= c.min_bs && bs <= c.max_bs, comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s: %s has %d columns, expected %s", path,
+               name.c_str(), (int)bs, widths.c_str());
     PetscCheck(n < 0 || N / bs == n, comm, PETSC_ERR_FILE_UNEXPECTED, "-insert_file %s: %s has %d rows, position %d", path, name.c_str(),
                (int)(N / bs), (int)n);
     n = N / bs;
