@@ -12,8 +12,13 @@ are running means over the samples, so the window between the two copies is (N2 
 solid fraction and the solid flux; the particle velocity is then the flux over the solid fraction (the
 volume-weighted mean, the same as sum v / sum N for equal particles). This leaves a start-up transient out.
 
+--merge x1,x2 takes two jets (seed Fig. 5.13: the double jets "merge near the distributor plate"): the merge height
+is the lowest point where the solid fraction of the column midway between them, scanned up from the bottom, first
+falls to the mean of the two jet columns' (linear between cell centres): below it the two jets are separate voids
+with denser solid between them, above it one.
+
     scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--below 0.25] [--since early/analysis.h5]
-                            [--json jet.json]"""
+                            [--merge 0.0137,0.0427] [--json jet.json]"""
 
 import json
 import os
@@ -40,6 +45,21 @@ def fountain_height(heights, solid_fraction, threshold):
     if k == len(s) - 1:
         return float(h[k])
     return float(h[k] + (s[k] - threshold) / (s[k] - s[k + 1]) * (h[k + 1] - h[k]))
+
+
+def merge_height(heights, solid_fraction_mid, solid_fraction_jets):
+    """Lowest point where solid_fraction_mid (the column between two jets) first falls to solid_fraction_jets (the
+    jet columns' mean), scanning up from the bottom cell centre and interpolating linearly between the two cell
+    centres that bracket the crossing; NaN when it never does; the bottom cell centre when it already has."""
+    h = np.asarray(heights, dtype=float)
+    d = np.asarray(solid_fraction_mid, dtype=float) - np.asarray(solid_fraction_jets, dtype=float)
+    at = np.nonzero(d <= 0)[0]
+    if at.size == 0:
+        return float("nan")
+    k = at[0]
+    if k == 0:
+        return float(h[0])
+    return float(h[k - 1] + d[k - 1] / (d[k - 1] - d[k]) * (h[k] - h[k - 1]))
 
 
 def window_between(early, late):
@@ -84,6 +104,8 @@ def main():
     ap.add_argument("--below", type=float, help="consider only cells whose centres lie below this height (m), e.g. to leave out "
                     "particles held against a closed top")
     ap.add_argument("--since", help="an earlier copy of the run's analysis.h5: report the window between the two")
+    ap.add_argument("--merge", help="x1,x2 of two jets in m: report where they merge (the midway column's solid fraction "
+                    "falls to the jet columns' mean)")
     ap.add_argument("--json", help="write the figures to this file")
     args = ap.parse_args()
 
@@ -114,6 +136,26 @@ def main():
         "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
         "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
     }
+    if args.merge:
+        try:
+            x1, x2 = (float(v) for v in args.merge.split(","))
+        except ValueError:
+            fp.die("--merge %s: give two x positions in m, x1,x2" % args.merge)
+        cols = [jet_column(a, xj) for xj in (x1, x2, 0.5 * (x1 + x2))]
+        if len({c[0] for c in cols}) < 3:
+            fp.die("--merge %s: the two jets and the column midway between them must be three different particle-grid "
+                   "columns (%d, %d, %d)" % (args.merge, cols[0][0], cols[1][0], cols[2][0]))
+        keep = slice(None) if args.below is None else cols[2][2] < args.below
+        jets = 0.5 * (cols[0][3] + cols[1][3])
+        mid_sf, mid_vy, ym = cols[2][3][keep], cols[2][4][keep], cols[2][2][keep]
+        out["merge"] = {
+            "jet_columns": [cols[0][0], cols[1][0]],
+            "mid_column": cols[2][0],
+            "merge_height_m": merge_height(ym, mid_sf, jets[keep]),
+            "mid_solid_fraction_bottom": float(mid_sf[0]),
+            "mid_max_velocity_y_m_s": float(np.nanmax(mid_vy)),
+            "mid_max_velocity_y_height_m": float(ym[int(np.nanargmax(mid_vy))]),
+        }
     print("window %.3f-%.3f s (%d samples); jet column %d (x %.2f-%.2f mm)" %
           (out["window_s"][0], out["window_s"][1], out["samples"], i, out["column_x_m"][0] * fp.MM, out["column_x_m"][1] * fp.MM))
     for t, v in out["fountain_height_m"].items():
@@ -121,6 +163,11 @@ def main():
     print("bed height (cross-section mean solid fraction 0.1): %.1f mm" % (out["bed_height_cross_section_0.1_m"] * fp.MM))
     print("largest upward particle velocity in the jet column: %.3f m/s at %.1f mm" %
           (out["jet_max_velocity_y_m_s"], out["jet_max_velocity_y_height_m"] * fp.MM))
+    if args.merge:
+        m = out["merge"]
+        print("jets in columns %d and %d merge at %.1f mm (midway column %d: solid fraction %.3f at the bottom; largest "
+              "upward particle velocity %.3f m/s at %.1f mm)" % (m["jet_columns"][0], m["jet_columns"][1], m["merge_height_m"] * fp.MM,
+              m["mid_column"], m["mid_solid_fraction_bottom"], m["mid_max_velocity_y_m_s"], m["mid_max_velocity_y_height_m"] * fp.MM))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=1)

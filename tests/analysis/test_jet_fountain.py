@@ -8,7 +8,10 @@ answers, no runs:
   crossing of that column and its largest upward velocity, not those of the bed beside it;
 - --since: two running means (1000 samples of a tall fountain, then 3000 samples in all) give back the window's own
   fountain and velocity exactly (to 1e-12); an earlier file with more samples is refused;
-- --below leaves out a layer held against a closed top."""
+- --below leaves out a layer held against a closed top;
+- --merge: a column between two jets that is packed low down and thins linearly above meets the jets' solid
+  fraction where the line does (1e-12), scanning up; one denser than the jets everywhere gives NaN; jets that share
+  a column with the midway one are refused."""
 import json
 import math
 import os
@@ -119,3 +122,27 @@ below = json.load(open("jet_fountain_cake/jet.json"))["fountain_height_m"]["0.1"
 t.check(top == y[-1] and abs(below - 0.12) < 1e-12, "--below 0.15 leaves the top layer out: %.4f m (without: %.4f m)" % (below, top))
 p = jet_fountain("jet_fountain_run", "--since", "jet_fountain_since/analysis.h5")
 t.check(p.returncode != 0 and "--since" in p.stderr, "--since with a later file is refused: %s" % p.stderr.strip()[:100])
+
+# --merge: two jets in columns 2 and 6 (x = 12.5 and 32.5 mm) at solid fraction 0.1 from the bottom up; the column
+# midway (4) packed at 0.6 up to 30 mm, then thinning by 0.01 per mm: it falls to the jets' 0.1 at 80 mm.
+mid = np.clip(0.6 - 10.0 * (y - 0.03), 0.0, 0.6)
+t.check(abs(jf.merge_height(y, mid, 0.1 * np.ones_like(y)) - 0.08) < 1e-12, "merge_height: the midway line meets 0.1 at 80 mm")
+t.check(math.isnan(jf.merge_height(y, 0.6 * np.ones_like(y), 0.1 * np.ones_like(y))), "a midway column denser everywhere gives NaN")
+t.check(jf.merge_height(y, 0.05 * np.ones_like(y), 0.1 * np.ones_like(y)) == y[0], "one already thinner at the bottom gives the bottom cell centre")
+two = np.full((nz, ny, nx), 0.6)
+two[:, :, 2] = two[:, :, 6] = 0.1
+two[:, :, 4] = mid
+vel2 = np.zeros((nz, ny, nx, 3))
+vel2[:, :, 4, 1] = np.where(y > 0.08, 0.3, -0.05)
+os.makedirs("jet_fountain_merge", exist_ok=True)
+write_analysis("jet_fountain_merge/analysis.h5", two, vel2, 1000, 1.0, 2.0)
+p = jet_fountain("jet_fountain_merge", "--merge", "0.0125,0.0325")
+m = json.load(open("jet_fountain_merge/jet.json"))["merge"]
+t.check(p.returncode == 0 and m["jet_columns"] == [2, 6] and m["mid_column"] == 4, "--merge: jet columns %s, midway %d" % (m["jet_columns"], m["mid_column"]))
+t.check(abs(m["merge_height_m"] - 0.08) < 1e-12 and m["mid_solid_fraction_bottom"] == 0.6,
+        "--merge: the jets merge at %.6f m (exact 0.08), the midway column packed (0.6) at the bottom" % m["merge_height_m"])
+t.check(m["mid_max_velocity_y_m_s"] == 0.3, "--merge: the midway column rises at 0.3 m/s above the merge")
+p = jet_fountain("jet_fountain_merge", "--merge", "0.021,0.022")
+t.check(p.returncode != 0 and "--merge" in p.stderr, "--merge with both jets in one column is refused: %s" % p.stderr.strip()[:120])
+p = jet_fountain("jet_fountain_merge", "--merge", "0.01")
+t.check(p.returncode != 0 and "--merge" in p.stderr, "--merge with one x is refused: %s" % p.stderr.strip()[:120])
