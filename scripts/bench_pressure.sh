@@ -14,7 +14,8 @@ DIR=${FLUIDBED_BENCH_DIR:-$ROOT/bench}
 PY=/usr/bin/python3
 [[ -x $PY ]] || PY=python3
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-PAIRS=("cg hypre" "cg gamg" "cg mg" "cg icc" "cg jacobi" "gmres hypre" "bcgs mg")
+# FLUIDBED_BENCH_PAIRS: "ksp pc" pairs separated by commas (default: the catalogue below)
+IFS=, read -r -a PAIRS <<<"${FLUIDBED_BENCH_PAIRS:-cg fastpoisson,cg pfmg,cg hypre,cg gamg,cg mg,cg icc,cg jacobi,gmres hypre,bcgs mg}"
 mkdir -p "$DIR"
 runs=()
 for model in A B; do

@@ -7,7 +7,7 @@ FLUIDBED_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 FLUIDBED_BUILD_DIR=${FLUIDBED_BUILD_DIR:-$FLUIDBED_ROOT/build}
 # Cores for make and ctest: nproc counts OMP_NUM_THREADS (set to 1 below for hypre), so ask it without.
 FLUIDBED_JOBS=${FLUIDBED_JOBS:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)}
-FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
+FLUIDBED_PACKAGES=(petsc-dev slepc-dev libhypre-dev libhdf5-openmpi-dev libfftw3-dev openmpi-bin googletest python3-matplotlib python3-h5py python3-numpy
                    cmake make g++ pkg-config)
 # What only the tests need: ParaView's pvbatch (python3-paraview holds its Python module, a recommendation that
 # --no-install-recommends skips) in a virtual X server, for tests/io/test_paraview.py; petsc4py and slepc4py for

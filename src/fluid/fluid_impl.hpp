@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fluidbed/dmda_field.hpp"
+#include "fluidbed/fast_poisson.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/inlets.hpp"
 #include "fluidbed/kernels/fluid_flux.hpp"

@@ -352,11 +352,21 @@ PetscErrorCode AdaptPreconditioner(Fluid *f)
   PetscFunctionReturn(0);
 }
 
-// The matrix type. hypre's structured multigrid (PFMG, on a MATHYPRESTRUCT matrix) is about five times faster per
-// solve than BoomerAMG on the seed's grids (docs/performance.md), but PETSc 3.18 offers it for 3D, non-periodic
-// DMDAs only: there it is the default; elsewhere the matrix is AIJ and the PC BoomerAMG. -fluid_p_pc_type other than
-// pfmg selects AIJ; -fluid_p_mat_type overrides the choice.
-PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured)
+// Whether the fastpoisson PC's pencils fit the ranks: at least as many cells as ranks along x and along y.
+bool FastPoissonFits(const Fluid *f)
+{
+  PetscMPIInt size;
+  MPI_Comm_size(f->comm, &size);
+  return f->n[0] >= size && f->n[1] >= size;
+}
+
+// The matrix type and the default PC. The default is fastpoisson (src/fluid/fast_poisson.cpp: the separable inverse with
+// one face coefficient, exact for model B without drag and a few CG iterations with it; 3-8 times cheaper per solve
+// than PFMG and BoomerAMG on the seed's beds, docs/ksp.md) on an AIJ matrix wherever its pencils fit. Otherwise
+// hypre's structured multigrid (PFMG, on a MATHYPRESTRUCT matrix), which PETSc 3.18 offers for 3D, non-periodic DMDAs
+// only, and BoomerAMG on AIJ elsewhere. -fluid_p_pc_type other than pfmg selects AIJ; -fluid_p_mat_type overrides the
+// choice.
+PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured, PetscBool *fast)
 {
   char      pc_type[64] = "", mat_type[64] = "";
   PetscBool pc_set, mat_set;
@@ -364,12 +374,12 @@ PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured)
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, "fluid_p_", "-pc_type", pc_type, sizeof(pc_type), &pc_set));
   PetscOptionsBegin(f->comm, "fluid_p_", "Pressure matrix", "Fluid");
-  PetscCall(OptionsString(PetscOptionsObject, "-mat_type",
-                          "Pressure matrix type (default: hyprestruct for 3D grids without periodic directions, else aij)", "a Mat type",
-                          mat_type, sizeof(mat_type), &mat_set));
+  PetscCall(OptionsString(PetscOptionsObject, "-mat_type", "Pressure matrix type (default: aij; hyprestruct with -fluid_p_pc_type pfmg)",
+                          "a Mat type", mat_type, sizeof(mat_type), &mat_set));
   PetscOptionsEnd();
   const PetscBool struct_ok = (PetscBool)(f->dim == 3 && !f->periodic[0] && !f->periodic[1] && !f->periodic[2]);
-  PetscBool       want_pfmg = pc_set ? (PetscBool)!strcmp(pc_type, PCPFMG) : struct_ok;
+  *fast                     = (PetscBool)(!pc_set && FastPoissonFits(f));
+  PetscBool want_pfmg       = pc_set ? (PetscBool)!strcmp(pc_type, PCPFMG) : (PetscBool)(struct_ok && !*fast);
   if (mat_set) {
     PetscCall(DMSetMatType(f->da_p, mat_type));
     *structured = (PetscBool)!strcmp(mat_type, MATHYPRESTRUCT);
@@ -413,12 +423,13 @@ PetscErrorCode SplitBoomerAMGSmoother(Fluid *f)
 PetscErrorCode FluidPressureCreate(Fluid *f)
 {
   PC        pc;
-  PetscBool structured = PETSC_FALSE;
+  PetscBool structured = PETSC_FALSE, fast = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(DMDASetInterpolationType(f->da_p, DMDA_Q0));
+  PetscCall(FastPoissonRegister());                        // -fluid_p_pc_type fastpoisson
   PetscCall(OptionsCheckSolverTypes(f->comm, "fluid_p_")); // a misspelled -fluid_p_ksp_type names the choices
-  PetscCall(ChooseMatrixType(f, &structured));
+  PetscCall(ChooseMatrixType(f, &structured, &fast));
   PetscCall(DMCreateMatrix(f->da_p, &f->A));
   PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRIC, PETSC_TRUE));
@@ -433,7 +444,9 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(KSPSetOptionsPrefix(f->ksp, "fluid_p_"));
   PetscCall(KSPSetType(f->ksp, KSPCG));
   PetscCall(KSPGetPC(f->ksp, &pc));
-  if (structured) {
+  if (fast) {
+    PetscCall(PCSetType(pc, PCFASTPOISSON));
+  } else if (structured) {
     PetscCall(PCSetType(pc, PCPFMG));
   } else {
     PetscCall(PCSetType(pc, PCHYPRE));
@@ -444,6 +457,10 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(KSPSetFromOptions(f->ksp));
   PetscCall(SplitBoomerAMGSmoother(f));
   PetscCall(AdaptPreconditioner(f));
+  {
+    const PetscReal weight[3] = {f->area[0] / f->h[0], f->area[1] / f->h[1], f->area[2] / f->h[2]};
+    PetscCall(PCFastPoissonSetGrid(pc, f->da_p, weight, f->has_dirichlet));
+  }
   PetscCall(FluidDumpSetFromOptions(f));
   {
     // The residual in the true (unpreconditioned) norm, so that -fluid_p_ksp_rtol bounds div(eps u) itself: CG

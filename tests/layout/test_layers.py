@@ -15,7 +15,7 @@ MODULES = {
     "core": (1, ["options.hpp", "phases.hpp", "dmda_field.hpp", "registry.hpp", "files.hpp", "status.hpp"], ["core"]),
     "grids": (2, ["domain.hpp", "grids.hpp"], ["grids"]),
     "particles": (3, ["particles.hpp", "particle_motion.hpp", "particle_system.hpp"], ["particles"]),
-    "fluid": (3, ["fluid.hpp", "inlets.hpp"], ["fluid"]),
+    "fluid": (3, ["fluid.hpp", "inlets.hpp", "fast_poisson.hpp"], ["fluid"]),
     "contact": (4, ["dem.hpp", "contact_model.hpp"], ["contact"]),
     "coupling": (4, ["coupling.hpp", "drag_laws.hpp"], ["coupling"]),
     "io": (5, ["io.hpp", "hdf5io.hpp", "outputs.hpp", "checkpoint_check.hpp"], ["io"]),

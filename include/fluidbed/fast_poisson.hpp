@@ -1,0 +1,20 @@
+// The PC type "fastpoisson" (-fluid_p_pc_type fastpoisson, src/fluid/fast_poisson.cpp): the exact inverse of the
+// projection's operator with one constant face coefficient on the uniform pressure grid, by FFTW transforms along the
+// walled and periodic axes and a tridiagonal solve along y (kernels/separable_poisson.hpp). A preconditioner for CG on
+// the projection, whose face coefficients vary only through the implicit drag (model B) or the void fraction (model A).
+#pragma once
+
+#include <petscksp.h>
+
+namespace fluidbed {
+
+#define PCFASTPOISSON "fastpoisson"
+
+// Adds "fastpoisson" to PETSc's PC types (again is harmless).
+PetscErrorCode FastPoissonRegister();
+// Gives a fastpoisson PC its grid: da, a cell-centred DMDA of the pressure's layout (its sizes, periodic axes and
+// ownership), the face weights A_a / h_a (m) and whether the top face is a pressure outlet (phi = 0 half a cell above the
+// top centres). A no-op for a PC of another type.
+PetscErrorCode PCFastPoissonSetGrid(PC pc, DM da, const PetscReal weight[3], PetscBool outlet_top);
+
+} // namespace fluidbed

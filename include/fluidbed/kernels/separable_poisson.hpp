@@ -1,0 +1,97 @@
+// The projection's operator with one constant face coefficient on a uniform cell-centred grid is separable: a sum over
+// the axes of w_a T_a, w_a = A_a / h_a, where T_a is the 1D second difference (times -1) along a with that axis's
+// boundaries. Transforms diagonalise T_a along the walled and periodic axes (cosine and Fourier modes, as FFTW's
+// real-to-real transforms order them) and a tridiagonal solve along the remaining axis finishes the inverse: the fast
+// Poisson preconditioner of the pressure solve (src/fluid/fast_poisson.cpp, docs/fluid.md). Plain functions, no
+// PETSc; tests/unit/test_separable_poisson.cpp checks them against the matrices they diagonalise and dense solves.
+#pragma once
+
+#include <cmath>
+
+namespace fluidbed::kernels {
+
+// The boundaries of one axis of the pressure grid, as the projection's assembly treats them (src/fluid/pressure.cpp):
+// a wall on both sides (no pressure flux: T_00 = T_nn = 1), periodic (circulant 2, -1, -1), or a wall below and a
+// pressure outlet above (phi = 0 on the upper face, half a cell from the last centre: T_nn = 3).
+enum class LineBC { WallWall, Periodic, WallPressure };
+
+// The entry (j, l) of T for an axis of n cells (for tests and checks; the periodic two-cell axis joins the pair by
+// both faces, 2 and -2, as the assembly does).
+inline double line_matrix_entry(LineBC bc, int n, int j, int l)
+{
+  if (bc == LineBC::Periodic) {
+    if (n == 1) return 0.0;
+    if (j == l) return 2.0;
+    const int d = ((l - j) % n + n) % n;
+    if (n == 2) return -2.0;
+    return (d == 1 || d == n - 1) ? -1.0 : 0.0;
+  }
+  if (j == l) {
+    double t = 0.0;
+    if (j > 0) t += 1.0;
+    if (j < n - 1) t += 1.0;
+    else if (bc == LineBC::WallPressure) t += 2.0; // the face at distance h/2: A / (h/2) = 2 A / h
+    return t;
+  }
+  return (l == j - 1 || l == j + 1) ? -1.0 : 0.0;
+}
+
+// The eigenvalue of T for the mode at index k of the transform that diagonalises it, in FFTW's output order:
+// - WallWall, DCT-II (FFTW_REDFT10, mode cos(pi k (j + 1/2) / n)): 4 sin^2(pi k / (2 n));
+// - Periodic, real-to-halfcomplex (FFTW_R2HC: index k <= n/2 the cosine of frequency k, n - k its sine): 4 sin^2(pi k / n),
+//   the same for both members of a pair;
+// - WallPressure, DCT-IV (FFTW_REDFT11, mode cos(pi (k + 1/2)(j + 1/2) / n)): 4 sin^2(pi (2k + 1) / (4 n)).
+inline double line_eigenvalue(LineBC bc, int n, int k)
+{
+  double s = 0.0;
+  switch (bc) {
+  case LineBC::WallWall:
+    s = std::sin(M_PI * k / (2.0 * n));
+    break;
+  case LineBC::Periodic:
+    s = std::sin(M_PI * k / n);
+    break;
+  case LineBC::WallPressure:
+    s = std::sin(M_PI * (2.0 * k + 1.0) / (4.0 * n));
+    break;
+  }
+  return 4.0 * s * s;
+}
+
+// A forward and a backward transform of FFTW in a row multiply by this (they are inverse up to it).
+inline double line_transform_scale(LineBC bc, int n)
+{
+  return bc == LineBC::Periodic ? n : 2.0 * n;
+}
+
+// Thomas factors of w T + lambda I along an axis of n cells with boundaries bc (not periodic): inv[j] = 1 / pivot j.
+// When the system is singular (lambda = 0 between two walls: the constant mode) the last pivot is zero and inv[n-1] is
+// set to 0, which pins the last unknown at 0 and solves the other n - 1 equations: the symmetric pseudo-solve of the
+// constant null space, which the Krylov method projects out.
+inline void tridiagonal_factor(LineBC bc, int n, double w, double lambda, double *inv)
+{
+  for (int j = 0; j < n; ++j) {
+    const double b     = w * line_matrix_entry(bc, n, j, j) + lambda;
+    const double pivot = j == 0 ? b : b - w * w * inv[j - 1];
+    inv[j]             = (j == n - 1 && bc == LineBC::WallWall && lambda == 0.0) ? 0.0 : 1.0 / pivot;
+  }
+}
+
+// Solves (w T + lambda_i I) x_i = s r_i in place for m interleaved lines (x[j m + i], i < m) of n cells with their
+// factors inv[j m + i] (tridiagonal_factor of line i); s scales the right-hand side (the transforms' normalisation).
+inline void tridiagonal_solve_lines(int n, int m, double w, double s, const double *inv, double *x)
+{
+  for (int i = 0; i < m; ++i) x[i] = s * x[i] * inv[i];
+  for (int j = 1; j < n; ++j) {
+    double       *xj = x + (long)j * m;
+    const double *xp = xj - m, *ij = inv + (long)j * m;
+    for (int i = 0; i < m; ++i) xj[i] = (s * xj[i] + w * xp[i]) * ij[i];
+  }
+  for (int j = n - 2; j >= 0; --j) {
+    double       *xj = x + (long)j * m;
+    const double *xn = xj + m, *ij = inv + (long)j * m;
+    for (int i = 0; i < m; ++i) xj[i] += w * ij[i] * xn[i];
+  }
+}
+
+} // namespace fluidbed::kernels

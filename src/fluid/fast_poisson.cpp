@@ -1,0 +1,393 @@
+// The PC type "fastpoisson" (-fluid_p_pc_type fastpoisson): the exact inverse of the projection's operator with one
+// constant face coefficient, by transforms and a tridiagonal solve (kernels/separable_poisson.hpp). On the seed's
+// uniform grids the projection's face coefficients c_f differ from a constant only through the implicit drag (model B:
+// c_f = eps_f / (eps_f + dt beta_f / rho), within 1.1-1.3 of each other on the running beds, docs/ksp.md) or the void
+// fraction (model A), so CG with this preconditioner converges at a rate set by that contrast alone, whatever the grid.
+//
+// The walled and periodic horizontal axes (x, z) are transformed with FFTW (DCT-II between walls, real Fourier when
+// periodic); along y, which may end at the pressure outlet, a Thomas solve per mode finishes the inverse (or, when y
+// is periodic, a transform as well). In parallel the data move between two pencil layouts: T, split along y only,
+// holds whole x and z lines for the transforms; S, split along x only, holds whole y lines for the solve. PETSc
+// VecScatters make the moves (fluid layout -> T -> S and back).
+#include "fluid_impl.hpp"
+#include "fluidbed/kernels/separable_poisson.hpp"
+
+#include <petsc/private/pcimpl.h>
+
+#include <fftw3.h>
+
+#include <cmath>
+#include <vector>
+
+namespace fluidbed {
+
+namespace {
+
+using kernels::LineBC;
+
+struct FastPoisson {
+  DM        da  = nullptr; // the pressure grid (a reference is held)
+  PetscInt  dim = 3, n[3]{1, 1, 1};
+  LineBC    bc[3]{LineBC::WallWall, LineBC::WallWall, LineBC::WallWall};
+  PetscReal w[3]{1, 1, 1}; // A_a / h_a
+  PetscBool grid_set = PETSC_FALSE;
+
+  PetscMPIInt size = 1;
+  // pencil T: cells with y in [ty0, ty1), all x and z, x fastest then y then z; pencil S: x in [sx0, sx1), all y and z
+  PetscInt            ty0 = 0, ty1 = 1, sx0 = 0, sx1 = 1;
+  double             *buf_t = nullptr, *buf_s = nullptr; // fftw_malloc'ed (buf_s == buf_t on one rank)
+  Vec                 vt = nullptr, vs = nullptr;
+  VecScatter          to_t = nullptr, to_s = nullptr; // fluid -> T, T -> S
+  fftw_plan           fwd[3]{}, bwd[3]{};             // per transformed axis (x, z on T; y on S when periodic)
+  bool                transformed[3]{false, false, false};
+  std::vector<double> inv;                 // S layout: Thomas factors per mode line (y solved) or 1 / eigenvalue (y transformed)
+  PetscReal           scale = 1, coef = 1; // 1 / (transforms' normalisation), the mean face coefficient
+  PetscInt            applies = 0;
+};
+
+fftw_r2r_kind ForwardKind(LineBC bc)
+{
+  return bc == LineBC::Periodic ? FFTW_R2HC : bc == LineBC::WallWall ? FFTW_REDFT10 : FFTW_REDFT11;
+}
+fftw_r2r_kind BackwardKind(LineBC bc)
+{
+  return bc == LineBC::Periodic ? FFTW_HC2R : bc == LineBC::WallWall ? FFTW_REDFT01 : FFTW_REDFT11;
+}
+
+const char *LineBCName(LineBC bc)
+{
+  return bc == LineBC::Periodic ? "periodic" : bc == LineBC::WallWall ? "walls" : "wall/outlet";
+}
+
+// The first index of part r of n split in P (PETSc's split: the first n % P parts one longer).
+PetscInt SplitStart(PetscInt n, PetscMPIInt P, PetscMPIInt r)
+{
+  return r * (n / P) + PetscMin(r, n % P);
+}
+
+// A plan of the transforms along axis a of a block of m[0] x m[1] x m[2] values (x fastest), in place on buf.
+fftw_plan PlanAxis(int a, const PetscInt m[3], double *buf, fftw_r2r_kind kind)
+{
+  const int  s[3] = {1, (int)m[0], (int)(m[0] * m[1])};
+  fftw_iodim dim  = {(int)m[a], s[a], s[a]};
+  fftw_iodim loops[2];
+  int        nl = 0;
+  for (int b = 0; b < 3; ++b)
+    if (b != a && m[b] > 1) loops[nl++] = {(int)m[b], s[b], s[b]};
+  return fftw_plan_guru_r2r(1, &dim, nl, loops, buf, buf, &kind, FFTW_ESTIMATE);
+}
+
+PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
+{
+  MPI_Comm    comm;
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)pc, &comm));
+  PetscCallMPI(MPI_Comm_size(comm, &fp->size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  const PetscMPIInt P = fp->size;
+  PetscCheck(fp->n[1] >= P && fp->n[0] >= P, comm, PETSC_ERR_SUP,
+             "-fluid_p_pc_type fastpoisson: the pencils need at least as many cells as ranks along x and y (%d x %d cells, %d ranks)",
+             (int)fp->n[0], (int)fp->n[1], (int)P);
+  fp->ty0              = SplitStart(fp->n[1], P, rank);
+  fp->ty1              = SplitStart(fp->n[1], P, rank + 1);
+  fp->sx0              = SplitStart(fp->n[0], P, rank);
+  fp->sx1              = SplitStart(fp->n[0], P, rank + 1);
+  const PetscInt mt[3] = {fp->n[0], fp->ty1 - fp->ty0, fp->n[2]}, ms[3] = {fp->sx1 - fp->sx0, fp->n[1], fp->n[2]};
+  const PetscInt nt = mt[0] * mt[1] * mt[2], ns = ms[0] * ms[1] * ms[2];
+  fp->buf_t = fftw_alloc_real((size_t)PetscMax(nt, 1));
+  fp->buf_s = P == 1 ? fp->buf_t : fftw_alloc_real((size_t)PetscMax(ns, 1));
+  PetscCall(VecCreateMPIWithArray(comm, 1, nt, PETSC_DECIDE, fp->buf_t, &fp->vt));
+  if (P > 1) PetscCall(VecCreateMPIWithArray(comm, 1, ns, PETSC_DECIDE, fp->buf_s, &fp->vs));
+
+  // the transforms: x and z on T, y on S when periodic (the solve axis otherwise)
+  double norm = 1;
+  for (int a = 0; a < fp->dim; ++a) {
+    fp->transformed[a] = a != 1 || fp->bc[1] == LineBC::Periodic;
+    if (!fp->transformed[a]) continue;
+    const PetscInt *mb  = a == 1 ? ms : mt;
+    double         *buf = a == 1 ? fp->buf_s : fp->buf_t;
+    fp->fwd[a]          = PlanAxis(a, mb, buf, ForwardKind(fp->bc[a]));
+    fp->bwd[a]          = PlanAxis(a, mb, buf, BackwardKind(fp->bc[a]));
+    PetscCheck(fp->fwd[a] && fp->bwd[a], comm, PETSC_ERR_LIB, "FFTW could not plan the transforms along axis %d", a);
+    norm *= kernels::line_transform_scale(fp->bc[a], (int)fp->n[a]);
+  }
+  fp->scale = 1.0 / norm;
+
+  // per mode line of S: the sum of the transformed axes' eigenvalues, then the Thomas factors along y (or 1 / eigenvalue)
+  fp->inv.assign((size_t)ns, 0.0);
+  std::vector<double> line((size_t)fp->n[1]);
+  for (PetscInt k = 0; k < ms[2]; ++k)
+    for (PetscInt i = 0; i < ms[0]; ++i) {
+      double lam = fp->w[0] * kernels::line_eigenvalue(fp->bc[0], (int)fp->n[0], (int)(fp->sx0 + i));
+      if (fp->dim == 3) lam += fp->w[2] * kernels::line_eigenvalue(fp->bc[2], (int)fp->n[2], (int)k);
+      if (fp->transformed[1]) {
+        for (PetscInt j = 0; j < ms[1]; ++j) {
+          const double total = lam + fp->w[1] * kernels::line_eigenvalue(fp->bc[1], (int)fp->n[1], (int)j);
+          line[(size_t)j]    = total == 0.0 ? 0.0 : 1.0 / total; // the constant mode: left out (the null space)
+        }
+      } else {
+        kernels::tridiagonal_factor(fp->bc[1], (int)fp->n[1], fp->w[1], lam, line.data());
+      }
+      for (PetscInt j = 0; j < ms[1]; ++j) fp->inv[(size_t)((k * ms[1] + j) * ms[0] + i)] = line[(size_t)j];
+    }
+
+  if (P == 1) PetscFunctionReturn(0);
+  // fluid -> T: each T cell's place in the fluid's global vector (natural index through the DMDA's AO)
+  {
+    AO                    ao;
+    std::vector<PetscInt> idx((size_t)nt);
+    PetscInt              start;
+    PetscCall(VecGetOwnershipRange(fp->vt, &start, NULL));
+    for (PetscInt k = 0, q = 0; k < mt[2]; ++k)
+      for (PetscInt j = fp->ty0; j < fp->ty1; ++j)
+        for (PetscInt i = 0; i < mt[0]; ++i, ++q) idx[(size_t)q] = i + fp->n[0] * (j + fp->n[1] * k);
+    PetscCall(DMDAGetAO(fp->da, &ao));
+    PetscCall(AOApplicationToPetsc(ao, nt, idx.data()));
+    IS  from, to;
+    Vec xf;
+    PetscCall(ISCreateGeneral(comm, nt, idx.data(), PETSC_COPY_VALUES, &from));
+    PetscCall(ISCreateStride(comm, nt, start, 1, &to));
+    PetscCall(DMGetGlobalVector(fp->da, &xf));
+    PetscCall(VecScatterCreate(xf, from, fp->vt, to, &fp->to_t));
+    PetscCall(DMRestoreGlobalVector(fp->da, &xf));
+    PetscCall(ISDestroy(&from));
+    PetscCall(ISDestroy(&to));
+  }
+  // T -> S: each S cell's place in T (rank r of T owns y in [SplitStart(r), SplitStart(r + 1)), blocks in rank order)
+  {
+    std::vector<PetscInt> idx((size_t)ns), tstart((size_t)P + 1, 0);
+    for (PetscMPIInt r = 0; r < P; ++r)
+      tstart[(size_t)r + 1] = tstart[(size_t)r] + fp->n[0] * (SplitStart(fp->n[1], P, r + 1) - SplitStart(fp->n[1], P, r)) * fp->n[2];
+    PetscMPIInt r = 0;
+    for (PetscInt k = 0, q = 0; k < ms[2]; ++k)
+      for (PetscInt j = 0; j < ms[1]; ++j) {
+        while (j >= SplitStart(fp->n[1], P, r + 1)) ++r;
+        while (j < SplitStart(fp->n[1], P, r)) --r;
+        const PetscInt y0 = SplitStart(fp->n[1], P, r), ny = SplitStart(fp->n[1], P, r + 1) - y0;
+        for (PetscInt i = fp->sx0; i < fp->sx1; ++i, ++q) idx[(size_t)q] = tstart[(size_t)r] + i + fp->n[0] * ((j - y0) + ny * k);
+      }
+    PetscInt start;
+    IS       from, to;
+    PetscCall(VecGetOwnershipRange(fp->vs, &start, NULL));
+    PetscCall(ISCreateGeneral(comm, ns, idx.data(), PETSC_COPY_VALUES, &from));
+    PetscCall(ISCreateStride(comm, ns, start, 1, &to));
+    PetscCall(VecScatterCreate(fp->vt, from, fp->vs, to, &fp->to_s));
+    PetscCall(ISDestroy(&from));
+    PetscCall(ISDestroy(&to));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y);
+
+// The mean face coefficient c of the operator A against the unit-coefficient one L: the ratio of their traces where A
+// gives its diagonal, else the Rayleigh estimate (A z, L^-1 A z) / (z, A z) (= c when A = c L) with a fixed z set by
+// natural index. It scales the inverse (CG does not depend on it; Richardson and the residual's scale do).
+PetscErrorCode MeanCoefficient(PC pc, FastPoisson *fp)
+{
+  PetscBool has_diag;
+  Vec       d, e;
+  PetscReal num, den;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(pc->pmat, &d, &e));
+  PetscCall(MatHasOperation(pc->pmat, MATOP_GET_DIAGONAL, &has_diag));
+  if (has_diag) {
+    PetscCall(MatGetDiagonal(pc->pmat, d));
+    PetscCall(VecSum(d, &num));
+    den = 0;
+    for (int a = 0; a < fp->dim; ++a) {
+      double trace = 0; // of T_a, times the number of lines along a
+      for (PetscInt j = 0; j < fp->n[a]; ++j) trace += kernels::line_matrix_entry(fp->bc[a], (int)fp->n[a], (int)j, (int)j);
+      den += fp->w[a] * trace * (double)(fp->n[0] * fp->n[1] * fp->n[2] / fp->n[a]);
+    }
+  } else {
+    DMDAField z;
+    PetscCall(DMDAFieldGet(fp->da, d, PETSC_FALSE, &z));
+    for (PetscInt k = z.s[2]; k < z.s[2] + z.m[2]; ++k)
+      for (PetscInt j = z.s[1]; j < z.s[1] + z.m[1]; ++j)
+        for (PetscInt i = z.s[0]; i < z.s[0] + z.m[0]; ++i) z(i, j, k) = std::sin(0.7 * (double)(i + fp->n[0] * (j + fp->n[1] * k)) + 0.3);
+    PetscCall(DMDAFieldRestore(d, &z));
+    PetscCall(MatMult(pc->pmat, d, e)); // e = A z
+    PetscCall(VecDot(d, e, &den));
+    fp->coef = 1;
+    PetscCall(PCApply_FastPoisson(pc, e, d)); // d = L^-1 A z
+    fp->applies--;
+    PetscCall(VecDot(e, d, &num));
+  }
+  PetscCall(VecDestroy(&d));
+  PetscCall(VecDestroy(&e));
+  fp->coef = num > 0 && den > 0 ? num / den : 1.0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCSetUp_FastPoisson(PC pc)
+{
+  FastPoisson *fp = (FastPoisson *)pc->data;
+
+  PetscFunctionBeginUser;
+  PetscCheck(fp->grid_set, PetscObjectComm((PetscObject)pc), PETSC_ERR_ORDER,
+             "-fluid_p_pc_type fastpoisson: the pressure grid was not given (PCFastPoissonSetGrid)");
+  if (!fp->vt) PetscCall(FastPoissonBuild(pc, fp));
+  PetscCall(MeanCoefficient(pc, fp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
+{
+  FastPoisson *fp = (FastPoisson *)pc->data;
+
+  PetscFunctionBeginUser;
+  if (fp->size > 1) {
+    PetscCall(VecScatterBegin(fp->to_t, r, fp->vt, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(fp->to_t, r, fp->vt, INSERT_VALUES, SCATTER_FORWARD));
+  } else {
+    const PetscScalar *a;
+    PetscInt           nloc;
+    PetscCall(VecGetLocalSize(r, &nloc));
+    PetscCall(VecGetArrayRead(r, &a));
+    PetscCall(PetscArraycpy(fp->buf_t, a, nloc));
+    PetscCall(VecRestoreArrayRead(r, &a));
+  }
+  if (fp->transformed[0]) fftw_execute(fp->fwd[0]);
+  if (fp->dim == 3 && fp->transformed[2]) fftw_execute(fp->fwd[2]);
+  if (fp->size > 1) {
+    PetscCall(VecScatterBegin(fp->to_s, fp->vt, fp->vs, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(fp->to_s, fp->vt, fp->vs, INSERT_VALUES, SCATTER_FORWARD));
+  }
+  const PetscInt mx = fp->sx1 - fp->sx0, plane = mx * fp->n[1];
+  const double   s = fp->scale / fp->coef;
+  if (fp->transformed[1]) {
+    fftw_execute(fp->fwd[1]);
+    for (PetscInt q = 0; q < plane * fp->n[2]; ++q) fp->buf_s[q] *= s * fp->inv[(size_t)q];
+    fftw_execute(fp->bwd[1]);
+  } else {
+    for (PetscInt k = 0; k < fp->n[2]; ++k)
+      kernels::tridiagonal_solve_lines((int)fp->n[1], (int)mx, fp->w[1], s, fp->inv.data() + k * plane, fp->buf_s + k * plane);
+  }
+  if (fp->size > 1) {
+    PetscCall(VecScatterBegin(fp->to_s, fp->vs, fp->vt, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(fp->to_s, fp->vs, fp->vt, INSERT_VALUES, SCATTER_REVERSE));
+  }
+  if (fp->dim == 3 && fp->transformed[2]) fftw_execute(fp->bwd[2]);
+  if (fp->transformed[0]) fftw_execute(fp->bwd[0]);
+  if (fp->size > 1) {
+    PetscCall(VecScatterBegin(fp->to_t, fp->vt, y, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(fp->to_t, fp->vt, y, INSERT_VALUES, SCATTER_REVERSE));
+  } else {
+    PetscScalar *a;
+    PetscInt     nloc;
+    PetscCall(VecGetLocalSize(y, &nloc));
+    PetscCall(VecGetArrayWrite(y, &a));
+    PetscCall(PetscArraycpy(a, fp->buf_t, nloc));
+    PetscCall(VecRestoreArrayWrite(y, &a));
+  }
+  fp->applies++;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCReset_FastPoisson(PC pc)
+{
+  FastPoisson *fp = (FastPoisson *)pc->data;
+
+  PetscFunctionBeginUser;
+  for (int a = 0; a < 3; ++a) {
+    if (fp->fwd[a]) fftw_destroy_plan(fp->fwd[a]);
+    if (fp->bwd[a]) fftw_destroy_plan(fp->bwd[a]);
+    fp->fwd[a] = fp->bwd[a] = nullptr;
+  }
+  PetscCall(VecScatterDestroy(&fp->to_t));
+  PetscCall(VecScatterDestroy(&fp->to_s));
+  PetscCall(VecDestroy(&fp->vt));
+  PetscCall(VecDestroy(&fp->vs));
+  if (fp->buf_s != fp->buf_t) fftw_free(fp->buf_s);
+  fftw_free(fp->buf_t);
+  fp->buf_t = fp->buf_s = nullptr;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCDestroy_FastPoisson(PC pc)
+{
+  FastPoisson *fp = (FastPoisson *)pc->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCReset_FastPoisson(pc));
+  PetscCall(DMDestroy(&fp->da));
+  delete fp;
+  pc->data = nullptr;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCView_FastPoisson(PC pc, PetscViewer viewer)
+{
+  FastPoisson *fp = (FastPoisson *)pc->data;
+  PetscBool    ascii;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (!ascii || !fp->grid_set) PetscFunctionReturn(0);
+  const char *axes = "xyz";
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  separable inverse with one face coefficient (mean %g), %d applications\n", (double)fp->coef,
+                                   (int)fp->applies));
+  for (int a = 0; a < fp->dim; ++a)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  %c: %d cells, %s, %s\n", axes[a], (int)fp->n[a], LineBCName(fp->bc[a]),
+                                     fp->transformed[a] ? "transformed (FFTW)" : "tridiagonal solve"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCCreate_FastPoisson(PC pc)
+{
+  PetscFunctionBeginUser;
+  pc->data         = (void *)new FastPoisson();
+  pc->ops->setup   = PCSetUp_FastPoisson;
+  pc->ops->apply   = PCApply_FastPoisson;
+  pc->ops->reset   = PCReset_FastPoisson;
+  pc->ops->destroy = PCDestroy_FastPoisson;
+  pc->ops->view    = PCView_FastPoisson;
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FastPoissonRegister()
+{
+  PetscFunctionBeginUser;
+  PetscCall(PCRegister(PCFASTPOISSON, PCCreate_FastPoisson));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PCFastPoissonSetGrid(PC pc, DM da, const PetscReal weight[3], PetscBool outlet_top)
+{
+  PetscBool      is_fp;
+  DMBoundaryType bt[3];
+  PetscInt       dim, M, N, Pz;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFASTPOISSON, &is_fp));
+  if (!is_fp) PetscFunctionReturn(0);
+  FastPoisson *fp = (FastPoisson *)pc->data;
+  PetscCall(PCReset_FastPoisson(pc));
+  PetscCall(DMDAGetInfo(da, &dim, &M, &N, &Pz, NULL, NULL, NULL, NULL, NULL, &bt[0], &bt[1], &bt[2], NULL));
+  PetscCall(PetscObjectReference((PetscObject)da));
+  PetscCall(DMDestroy(&fp->da));
+  fp->da   = da;
+  fp->dim  = dim;
+  fp->n[0] = M;
+  fp->n[1] = N;
+  fp->n[2] = dim == 3 ? Pz : 1;
+  for (int a = 0; a < 3; ++a) {
+    fp->w[a]  = a < dim ? weight[a] : 0.0;
+    fp->bc[a] = bt[a] == DM_BOUNDARY_PERIODIC ? LineBC::Periodic : LineBC::WallWall;
+  }
+  if (outlet_top) {
+    PetscCheck(fp->bc[1] != LineBC::Periodic, PetscObjectComm((PetscObject)pc), PETSC_ERR_ARG_INCOMP,
+               "a pressure outlet on a periodic axis");
+    fp->bc[1] = LineBC::WallPressure;
+  }
+  fp->grid_set = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+} // namespace fluidbed

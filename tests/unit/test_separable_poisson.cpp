@@ -1,0 +1,178 @@
+// Unit tests of the separable Poisson kernels (kernels/separable_poisson.hpp): the 1D operators match the projection's
+// rows, their eigenvalues belong to the transform modes FFTW leaves in that order, and the Thomas solve matches dense
+// Gaussian elimination, the singular (constant-mode) system included. No MPI, no PETSc, no FFTW.
+#include <gtest/gtest.h>
+
+#include "fluidbed/kernels/separable_poisson.hpp"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace fluidbed::kernels;
+
+namespace {
+
+// The mode at transform index k along an axis of n cells (values at the cell centres j = 0..n-1).
+std::vector<double> Mode(LineBC bc, int n, int k)
+{
+  std::vector<double> v(n);
+  for (int j = 0; j < n; ++j) {
+    switch (bc) {
+    case LineBC::WallWall:
+      v[j] = std::cos(M_PI * k * (j + 0.5) / n);
+      break;
+    case LineBC::WallPressure:
+      v[j] = std::cos(M_PI * (k + 0.5) * (j + 0.5) / n);
+      break;
+    case LineBC::Periodic:
+      v[j] = k <= n / 2 ? std::cos(2 * M_PI * k * j / n) : std::sin(2 * M_PI * (n - k) * j / n);
+      break;
+    }
+  }
+  return v;
+}
+
+// Dense Gaussian elimination with partial pivoting of A x = b (n x n, row-major).
+std::vector<double> DenseSolve(std::vector<double> A, std::vector<double> b)
+{
+  const int n = (int)b.size();
+  for (int c = 0; c < n; ++c) {
+    int p = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::fabs(A[r * n + c]) > std::fabs(A[p * n + c])) p = r;
+    for (int q = 0; q < n; ++q) std::swap(A[c * n + q], A[p * n + q]);
+    std::swap(b[c], b[p]);
+    for (int r = c + 1; r < n; ++r) {
+      const double f = A[r * n + c] / A[c * n + c];
+      for (int q = c; q < n; ++q) A[r * n + q] -= f * A[c * n + q];
+      b[r] -= f * b[c];
+    }
+  }
+  std::vector<double> x(n);
+  for (int r = n - 1; r >= 0; --r) {
+    double s = b[r];
+    for (int q = r + 1; q < n; ++q) s -= A[r * n + q] * x[q];
+    x[r] = s / A[r * n + r];
+  }
+  return x;
+}
+
+const LineBC kAll[] = {LineBC::WallWall, LineBC::Periodic, LineBC::WallPressure};
+
+} // namespace
+
+// The rows are the assembly's (src/fluid/pressure.cpp): interior 2, -1, -1; a wall adds nothing; the outlet face at
+// h/2 adds 2; periodic wraps.
+TEST(SeparablePoisson, LineMatrixIsTheProjectionsRows)
+{
+  EXPECT_EQ(line_matrix_entry(LineBC::WallWall, 4, 0, 0), 1.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallWall, 4, 3, 3), 1.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallWall, 4, 1, 1), 2.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallWall, 4, 1, 2), -1.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallWall, 4, 0, 3), 0.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallPressure, 4, 3, 3), 3.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::WallPressure, 1, 0, 0), 2.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::Periodic, 4, 0, 3), -1.0);
+  EXPECT_EQ(line_matrix_entry(LineBC::Periodic, 2, 0, 1), -2.0);
+  for (LineBC bc : kAll)
+    for (int n : {1, 2, 3, 7}) // every row sums to zero but the outlet's
+      for (int j = 0; j < n; ++j) {
+        double s = 0;
+        for (int l = 0; l < n; ++l) s += line_matrix_entry(bc, n, j, l);
+        EXPECT_NEAR(s, (bc == LineBC::WallPressure && j == n - 1) ? 2.0 : 0.0, 1e-15) << (int)bc << " n " << n << " row " << j;
+      }
+}
+
+// T v_k = lambda_k v_k for every mode of the transform, to round-off, on odd, even and one-cell axes.
+TEST(SeparablePoisson, EigenvaluesBelongToTheTransformModes)
+{
+  for (LineBC bc : kAll)
+    for (int n : {1, 2, 3, 4, 5, 16, 175}) {
+      if (bc == LineBC::Periodic && n == 1) continue;
+      for (int k = 0; k < n; ++k) {
+        const std::vector<double> v   = Mode(bc, n, k);
+        const double              lam = line_eigenvalue(bc, n, k);
+        double                    err = 0, norm = 0;
+        for (int j = 0; j < n; ++j) {
+          double tv = 0;
+          for (int l = 0; l < n; ++l) tv += line_matrix_entry(bc, n, j, l) * v[l];
+          err  = std::fmax(err, std::fabs(tv - lam * v[j]));
+          norm = std::fmax(norm, std::fabs(v[j]));
+        }
+        if (norm == 0) continue; // the sine of frequency 0 or n/2 does not exist
+        EXPECT_LT(err, 1e-12 * (1 + lam) * norm) << "bc " << (int)bc << " n " << n << " k " << k;
+        EXPECT_GE(lam, 0.0);
+        EXPECT_LE(lam, 4.0 + 1e-12);
+      }
+    }
+  EXPECT_EQ(line_eigenvalue(LineBC::WallWall, 9, 0), 0.0); // the constant mode, exactly
+  EXPECT_EQ(line_eigenvalue(LineBC::Periodic, 9, 0), 0.0);
+  EXPECT_GT(line_eigenvalue(LineBC::WallPressure, 9, 0), 0.0); // the outlet fixes the level: no null space
+}
+
+// The Thomas solve of interleaved lines, each with its own lambda and a scale s, against dense elimination.
+TEST(SeparablePoisson, TridiagonalSolveMatchesDenseElimination)
+{
+  std::mt19937                           gen(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (LineBC bc : {LineBC::WallWall, LineBC::WallPressure})
+    for (int n : {1, 2, 3, 30}) {
+      const int           m = 5;
+      const double        w = 2.5, s = 0.3;
+      std::vector<double> inv(n * m), x(n * m), lam(m);
+      for (int i = 0; i < m; ++i) {
+        lam[i] = 0.1 + 2.0 * i;
+        std::vector<double> col(n);
+        tridiagonal_factor(bc, n, w, lam[i], col.data());
+        for (int j = 0; j < n; ++j) inv[j * m + i] = col[j];
+      }
+      for (double &v : x) v = u(gen);
+      const std::vector<double> r = x;
+      tridiagonal_solve_lines(n, m, w, s, inv.data(), x.data());
+      for (int i = 0; i < m; ++i) {
+        std::vector<double> A(n * n), b(n);
+        for (int j = 0; j < n; ++j) {
+          b[j] = s * r[j * m + i];
+          for (int l = 0; l < n; ++l) A[j * n + l] = w * line_matrix_entry(bc, n, j, l) + (j == l ? lam[i] : 0.0);
+        }
+        const std::vector<double> ref = DenseSolve(A, b);
+        for (int j = 0; j < n; ++j) EXPECT_NEAR(x[j * m + i], ref[j], 1e-12 * (1 + std::fabs(ref[j]))) << "n " << n << " line " << i;
+      }
+    }
+}
+
+// The constant mode between two walls (lambda = 0): the last unknown is pinned at 0 and the other n - 1 equations
+// hold, so a consistent right-hand side (zero sum) is solved up to a constant; the pseudo-solve is symmetric.
+TEST(SeparablePoisson, SingularLineIsPinnedAndSymmetric)
+{
+  const int           n = 12;
+  const double        w = 1.7;
+  std::vector<double> inv(n);
+  tridiagonal_factor(LineBC::WallWall, n, w, 0.0, inv.data());
+  EXPECT_EQ(inv[n - 1], 0.0);
+  std::mt19937                           gen(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double>                    r(n);
+  double                                 mean = 0;
+  for (double &v : r) mean += (v = u(gen)) / n;
+  for (double &v : r) v -= mean;
+  std::vector<double> x = r;
+  tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), x.data());
+  EXPECT_EQ(x[n - 1], 0.0);
+  for (int j = 0; j < n; ++j) {
+    double ax = 0;
+    for (int l = 0; l < n; ++l) ax += w * line_matrix_entry(LineBC::WallWall, n, j, l) * x[l];
+    EXPECT_NEAR(ax, r[j], 1e-12) << "row " << j;
+  }
+  // symmetry of the map r -> x: e_a . G e_b = e_b . G e_a
+  std::vector<double> G(n * n);
+  for (int b = 0; b < n; ++b) {
+    std::vector<double> e(n, 0.0);
+    e[b] = 1;
+    tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), e.data());
+    for (int a = 0; a < n; ++a) G[a * n + b] = e[a];
+  }
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < a; ++b) EXPECT_NEAR(G[a * n + b], G[b * n + a], 1e-12);
+}
