@@ -16,6 +16,7 @@
 
 #include <fftw3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -24,6 +25,9 @@ namespace fluidbed {
 namespace {
 
 using kernels::LineBC;
+
+// -log_view events of the PC's parts: the transforms, the line solves, the moves between the layouts
+PetscLogEvent ev_transform = 0, ev_solve = 0, ev_move = 0;
 
 struct FastPoisson {
   DM        da  = nullptr; // the pressure grid (a reference is held)
@@ -40,6 +44,8 @@ struct FastPoisson {
   VecScatter          to_t = nullptr, to_s = nullptr; // fluid -> T, T -> S
   fftw_plan           fwd[3]{}, bwd[3]{};             // per transformed axis (x, z on T; y on S when periodic)
   bool                transformed[3]{false, false, false};
+  std::vector<double> modes[3];            // short axes (at most kDenseCells): the orthonormal modes, V[j n + k], instead of FFTW
+  std::vector<double> work;                // the dense transforms' output
   std::vector<double> inv;                 // S layout: Thomas factors per mode line (y solved) or 1 / eigenvalue (y transformed)
   PetscReal           scale = 1, coef = 1; // 1 / (transforms' normalisation), the mean face coefficient
   PetscInt            applies = 0;
@@ -64,6 +70,10 @@ PetscInt SplitStart(PetscInt n, PetscMPIInt P, PetscMPIInt r)
 {
   return r * (n / P) + PetscMin(r, n % P);
 }
+
+// Axes of at most this many cells are transformed by a dense matrix across the planes (the seed's 3-5 cells deep beds:
+// half the time of FFTW's strided transforms of length 5, a tenth at length 3).
+constexpr PetscInt kDenseCells = 8;
 
 // A plan of the transforms along axis a of a block of m[0] x m[1] x m[2] values (x fastest), in place on buf.
 fftw_plan PlanAxis(int a, const PetscInt m[3], double *buf, fftw_r2r_kind kind)
@@ -108,10 +118,18 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
     if (!fp->transformed[a]) continue;
     const PetscInt *mb  = a == 1 ? ms : mt;
     double         *buf = a == 1 ? fp->buf_s : fp->buf_t;
-    fp->fwd[a]          = PlanAxis(a, mb, buf, ForwardKind(fp->bc[a]));
-    fp->bwd[a]          = PlanAxis(a, mb, buf, BackwardKind(fp->bc[a]));
+    const int       na  = (int)fp->n[a];
+    if (na <= kDenseCells) {
+      fp->modes[a].resize((size_t)(na * na));
+      for (int j = 0; j < na; ++j)
+        for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
+      fp->work.resize((size_t)PetscMax(PetscMax(nt, ns), 1));
+      continue; // orthonormal: no normalisation
+    }
+    fp->fwd[a] = PlanAxis(a, mb, buf, ForwardKind(fp->bc[a]));
+    fp->bwd[a] = PlanAxis(a, mb, buf, BackwardKind(fp->bc[a]));
     PetscCheck(fp->fwd[a] && fp->bwd[a], comm, PETSC_ERR_LIB, "FFTW could not plan the transforms along axis %d", a);
-    norm *= kernels::line_transform_scale(fp->bc[a], (int)fp->n[a]);
+    norm *= kernels::line_transform_scale(fp->bc[a], na);
   }
   fp->scale = 1.0 / norm;
 
@@ -182,6 +200,19 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
 
 PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y);
 
+// The forward or backward transform along axis a of the block buf of m[0] x m[1] x m[2] values (x fastest).
+void TransformAxis(FastPoisson *fp, int a, bool forward, const PetscInt m[3], double *buf)
+{
+  if (fp->modes[a].empty()) {
+    fftw_execute(forward ? fp->fwd[a] : fp->bwd[a]);
+    return;
+  }
+  const long inner = a == 0 ? 1 : a == 1 ? (long)m[0] : (long)(m[0] * m[1]);
+  const long total = (long)(m[0] * m[1] * m[2]), outer = total / (inner * m[a]);
+  kernels::dense_line_transform((int)m[a], inner, outer, fp->modes[a].data(), !forward, buf, fp->work.data());
+  std::copy(fp->work.begin(), fp->work.begin() + total, buf);
+}
+
 // The mean face coefficient c of the operator A against the unit-coefficient one L: the ratio of their traces where A
 // gives its diagonal, else the Rayleigh estimate (A z, L^-1 A z) / (z, A z) (= c when A = c L) with a fixed z set by
 // natural index. It scales the inverse (CG does not depend on it; Richardson and the residual's scale do).
@@ -240,6 +271,7 @@ PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
   FastPoisson *fp = (FastPoisson *)pc->data;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
   if (fp->size > 1) {
     PetscCall(VecScatterBegin(fp->to_t, r, fp->vt, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecScatterEnd(fp->to_t, r, fp->vt, INSERT_VALUES, SCATTER_FORWARD));
@@ -251,28 +283,41 @@ PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
     PetscCall(PetscArraycpy(fp->buf_t, a, nloc));
     PetscCall(VecRestoreArrayRead(r, &a));
   }
-  if (fp->transformed[0]) fftw_execute(fp->fwd[0]);
-  if (fp->dim == 3 && fp->transformed[2]) fftw_execute(fp->fwd[2]);
+  PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_transform, pc, 0, 0, 0));
+  const PetscInt mt[3] = {fp->n[0], fp->ty1 - fp->ty0, fp->n[2]}, ms[3] = {fp->sx1 - fp->sx0, fp->n[1], fp->n[2]};
+  if (fp->transformed[0]) TransformAxis(fp, 0, true, mt, fp->buf_t);
+  if (fp->dim == 3 && fp->transformed[2]) TransformAxis(fp, 2, true, mt, fp->buf_t);
+  PetscCall(PetscLogEventEnd(ev_transform, pc, 0, 0, 0));
   if (fp->size > 1) {
+    PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
     PetscCall(VecScatterBegin(fp->to_s, fp->vt, fp->vs, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecScatterEnd(fp->to_s, fp->vt, fp->vs, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
   }
+  PetscCall(PetscLogEventBegin(ev_solve, pc, 0, 0, 0));
   const PetscInt mx = fp->sx1 - fp->sx0, plane = mx * fp->n[1];
   const double   s = fp->scale / fp->coef;
   if (fp->transformed[1]) {
-    fftw_execute(fp->fwd[1]);
+    TransformAxis(fp, 1, true, ms, fp->buf_s);
     for (PetscInt q = 0; q < plane * fp->n[2]; ++q) fp->buf_s[q] *= s * fp->inv[(size_t)q];
-    fftw_execute(fp->bwd[1]);
+    TransformAxis(fp, 1, false, ms, fp->buf_s);
   } else {
     for (PetscInt k = 0; k < fp->n[2]; ++k)
       kernels::tridiagonal_solve_lines((int)fp->n[1], (int)mx, fp->w[1], s, fp->inv.data() + k * plane, fp->buf_s + k * plane);
   }
+  PetscCall(PetscLogEventEnd(ev_solve, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
   if (fp->size > 1) {
     PetscCall(VecScatterBegin(fp->to_s, fp->vs, fp->vt, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(fp->to_s, fp->vs, fp->vt, INSERT_VALUES, SCATTER_REVERSE));
   }
-  if (fp->dim == 3 && fp->transformed[2]) fftw_execute(fp->bwd[2]);
-  if (fp->transformed[0]) fftw_execute(fp->bwd[0]);
+  PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_transform, pc, 0, 0, 0));
+  if (fp->dim == 3 && fp->transformed[2]) TransformAxis(fp, 2, false, mt, fp->buf_t);
+  if (fp->transformed[0]) TransformAxis(fp, 0, false, mt, fp->buf_t);
+  PetscCall(PetscLogEventEnd(ev_transform, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
   if (fp->size > 1) {
     PetscCall(VecScatterBegin(fp->to_t, fp->vt, y, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(fp->to_t, fp->vt, y, INSERT_VALUES, SCATTER_REVERSE));
@@ -284,6 +329,7 @@ PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
     PetscCall(PetscArraycpy(a, fp->buf_t, nloc));
     PetscCall(VecRestoreArrayWrite(y, &a));
   }
+  PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
   fp->applies++;
   PetscFunctionReturn(0);
 }
@@ -297,6 +343,7 @@ PetscErrorCode PCReset_FastPoisson(PC pc)
     if (fp->fwd[a]) fftw_destroy_plan(fp->fwd[a]);
     if (fp->bwd[a]) fftw_destroy_plan(fp->bwd[a]);
     fp->fwd[a] = fp->bwd[a] = nullptr;
+    fp->modes[a].clear();
   }
   PetscCall(VecScatterDestroy(&fp->to_t));
   PetscCall(VecScatterDestroy(&fp->to_s));
@@ -333,7 +380,9 @@ PetscErrorCode PCView_FastPoisson(PC pc, PetscViewer viewer)
                                    (int)fp->applies));
   for (int a = 0; a < fp->dim; ++a)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  %c: %d cells, %s, %s\n", axes[a], (int)fp->n[a], LineBCName(fp->bc[a]),
-                                     fp->transformed[a] ? "transformed (FFTW)" : "tridiagonal solve"));
+                                     !fp->transformed[a]    ? "tridiagonal solve"
+                                     : fp->modes[a].empty() ? "transformed (FFTW)"
+                                                            : "transformed (dense modes)"));
   PetscFunctionReturn(0);
 }
 
@@ -355,6 +404,13 @@ PetscErrorCode FastPoissonRegister()
 {
   PetscFunctionBeginUser;
   PetscCall(PCRegister(PCFASTPOISSON, PCCreate_FastPoisson));
+  if (!ev_transform) {
+    PetscClassId id;
+    PetscCall(PetscClassIdRegister("FastPoisson", &id));
+    PetscCall(PetscLogEventRegister("FastPoissonFFT", id, &ev_transform));
+    PetscCall(PetscLogEventRegister("FastPoissonLines", id, &ev_solve));
+    PetscCall(PetscLogEventRegister("FastPoissonMove", id, &ev_move));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -50,7 +50,7 @@ t.check(m["grid"] == "two" and m["fluid_cells_per_particle_cell"] == [3, 2, 1] a
                                                                                  m["particle_cell_diameters"]))
 t.check(m["substeps"] == 1 and m["drag_model"] == "ergun_wenyu" and m["contact"] == "linear spring-dashpot" and m["k_n"] == 800
         and m["e"] == 0.9 and m["mu"] == 0.1, "model: substeps, drag, contact %s k_n %s e %s mu %s" % (m["contact"], m["k_n"], m["e"], m["mu"]))
-t.check(m["pressure_ksp"] == "cg" and m["pressure_pc"] == "hypre" and m["guards"] == "stop" and m["averaging"] is False,
+t.check(m["pressure_ksp"] == "cg" and m["pressure_pc"] == "fastpoisson" and m["guards"] == "stop" and m["averaging"] is False,
         "model: pressure %s + %s, guards %s, averaging %s" % (m["pressure_ksp"], m["pressure_pc"], m["guards"], m["averaging"]))
 t.check(m["heat"] is False and m["periodic"] == [False, False, False] and m["outlet"] is True and m["gas_outlet"] == "outlet",
         "model: heat %s, periodic %s, outlet %s (%s)" % (m["heat"], m["periodic"], m["outlet"], m["gas_outlet"]))

@@ -1,7 +1,8 @@
 """scripts/strong_scaling.py straight through mpiexec on 1 and 2 ranks: the 2D jetted bed (900 particles, 33 x 60 gas
 cells), 60 steps. The table has its columns; two ranks split x (the bed is shared, not stacked), so particles and gas
 cells are balanced (imbalance max / mean below 1.25 and 1.15), each rank has ghosts and halo cells, the 1-rank run sends
-no messages and the 2-rank run sends some (between 1 and 50 kB per step); the counts add up to the scene's particles
+no messages and the 2-rank run sends some (between 1 and 300 kB per step: the halos, and the fast Poisson pressure PC's
+transposes, which move half the 1980-cell grid four times per application, about 32 kB, at 4-6 applications per step); the counts add up to the scene's particles
 and cells. A second call reuses both runs and writes the same particle and cell columns."""
 import csv
 import os
@@ -33,7 +34,7 @@ t.check(1.0 <= f["particles_imbalance"] < 1.25 and 1.0 <= f["fluid_cells_imbalan
 t.check(float(one["ghosts_max"]) == 0 and float(one["halo_cells_max"]) == 0 and f["ghosts_max"] > 0 and f["halo_cells_max"] == 60,
         "ghosts per rank 1: %s, 2: %s; halo cells 2: %s (one column of 60 gas cells)" % (one["ghosts_max"], two["ghosts_max"],
                                                                                           two["halo_cells_max"]))
-t.check(float(one["msg_bytes_per_step"]) == 0 and 1e3 < f["msg_bytes_per_step"] < 5e4 and f["msg_per_step"] >= 2,
+t.check(float(one["msg_bytes_per_step"]) == 0 and 1e3 < f["msg_bytes_per_step"] < 3e5 and f["msg_per_step"] >= 2,
         "messages per step: 1 rank %s B, 2 ranks %.0f messages, %.0f B" % (one["msg_bytes_per_step"], f["msg_per_step"],
                                                                             f["msg_bytes_per_step"]))
 t.check(abs(2 * float(two["particles_mean"]) - float(one["particles_max"])) < 1e-6 and float(one["particles_max"]) == 900 and

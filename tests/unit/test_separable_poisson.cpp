@@ -111,6 +111,38 @@ TEST(SeparablePoisson, EigenvaluesBelongToTheTransformModes)
   EXPECT_GT(line_eigenvalue(LineBC::WallPressure, 9, 0), 0.0); // the outlet fixes the level: no null space
 }
 
+// The orthonormal modes: T V = V diag(lambda) and V^T V = I; the dense transform and its transpose invert each other.
+TEST(SeparablePoisson, DenseModesAreOrthonormalEigenvectors)
+{
+  for (LineBC bc : kAll)
+    for (int n : {1, 2, 3, 4, 5, 8}) {
+      if (bc == LineBC::Periodic && n == 1) continue;
+      std::vector<double> V(n * n);
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) V[j * n + k] = line_mode(bc, n, k, j);
+      for (int k = 0; k < n; ++k) {
+        const double lam = line_eigenvalue(bc, n, k);
+        for (int j = 0; j < n; ++j) {
+          double tv = 0;
+          for (int l = 0; l < n; ++l) tv += line_matrix_entry(bc, n, j, l) * V[l * n + k];
+          EXPECT_NEAR(tv, lam * V[j * n + k], 1e-13) << "bc " << (int)bc << " n " << n << " mode " << k;
+        }
+        for (int l = 0; l < n; ++l) {
+          double dot = 0;
+          for (int j = 0; j < n; ++j) dot += V[j * n + k] * V[j * n + l];
+          EXPECT_NEAR(dot, k == l ? 1.0 : 0.0, 1e-13) << "bc " << (int)bc << " n " << n << " modes " << k << ", " << l;
+        }
+      }
+      // three blocks of n x 4: forward then backward gives the input back
+      const long          inner = 4, outer = 3;
+      std::vector<double> x(outer * n * inner), t(x.size()), back(x.size());
+      for (std::size_t q = 0; q < x.size(); ++q) x[q] = std::sin(0.37 * q + 0.1);
+      dense_line_transform(n, inner, outer, V.data(), false, x.data(), t.data());
+      dense_line_transform(n, inner, outer, V.data(), true, t.data(), back.data());
+      for (std::size_t q = 0; q < x.size(); ++q) EXPECT_NEAR(back[q], x[q], 1e-13);
+    }
+}
+
 // The Thomas solve of interleaved lines, each with its own lambda and a scale s, against dense elimination.
 TEST(SeparablePoisson, TridiagonalSolveMatchesDenseElimination)
 {

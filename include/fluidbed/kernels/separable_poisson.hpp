@@ -58,6 +58,44 @@ inline double line_eigenvalue(LineBC bc, int n, int k)
   return 4.0 * s * s;
 }
 
+// The orthonormal mode k of T at cell j, in the order of line_eigenvalue (and of FFTW's output): for short axes, whose
+// transform is cheaper as a small dense matrix across the planes than as FFTW's strided transforms.
+inline double line_mode(LineBC bc, int n, int k, int j)
+{
+  switch (bc) {
+  case LineBC::WallWall:
+    return std::sqrt((k == 0 ? 1.0 : 2.0) / n) * std::cos(M_PI * k * (j + 0.5) / n);
+  case LineBC::WallPressure:
+    return std::sqrt(2.0 / n) * std::cos(M_PI * (k + 0.5) * (j + 0.5) / n);
+  case LineBC::Periodic:
+    if (k == 0) return 1.0 / std::sqrt((double)n);
+    if (2 * k == n) return (j % 2 ? -1.0 : 1.0) / std::sqrt((double)n);
+    if (2 * k < n) return std::sqrt(2.0 / n) * std::cos(2.0 * M_PI * k * j / n);
+    return std::sqrt(2.0 / n) * std::sin(2.0 * M_PI * (n - k) * j / n);
+  }
+  return 0.0;
+}
+
+// out[o][k][q] = sum_j V[j][k] in[o][j][q] (transpose: sum_k V[j][k] in[o][k][q] into out[o][j][q]) for blocks of outer
+// x n x inner values, V[j * n + k] = line_mode(k, j): the forward (backward) transform along an axis of n cells whose
+// stride is inner. in and out must not overlap.
+inline void dense_line_transform(int n, long inner, long outer, const double *V, bool transpose, const double *in, double *out)
+{
+  for (long o = 0; o < outer; ++o) {
+    const double *x = in + o * n * inner;
+    double       *y = out + o * n * inner;
+    for (int k = 0; k < n; ++k) {
+      double *yk = y + k * inner;
+      for (long q = 0; q < inner; ++q) yk[q] = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double  c  = transpose ? V[k * n + j] : V[j * n + k];
+        const double *xj = x + j * inner;
+        for (long q = 0; q < inner; ++q) yk[q] += c * xj[q];
+      }
+    }
+  }
+}
+
 // A forward and a backward transform of FFTW in a row multiply by this (they are inverse up to it).
 inline double line_transform_scale(LineBC bc, int n)
 {
