@@ -16,7 +16,6 @@
 
 #include <fftw3.h>
 
-#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -73,7 +72,7 @@ PetscInt SplitStart(PetscInt n, PetscMPIInt P, PetscMPIInt r)
 
 // Axes of at most this many cells are transformed by a dense matrix across the planes (the seed's 3-5 cells deep beds:
 // half the time of FFTW's strided transforms of length 5, a tenth at length 3).
-constexpr PetscInt kDenseCells = 8;
+constexpr PetscInt kDenseCells = 8; // at most 16 (kernels::dense_line_transform)
 
 // A plan of the transforms along axis a of a block of m[0] x m[1] x m[2] values (x fastest), in place on buf.
 fftw_plan PlanAxis(int a, const PetscInt m[3], double *buf, fftw_r2r_kind kind)
@@ -123,7 +122,6 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
       fp->modes[a].resize((size_t)(na * na));
       for (int j = 0; j < na; ++j)
         for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
-      fp->work.resize((size_t)PetscMax(PetscMax(nt, ns), 1));
       continue; // orthonormal: no normalisation
     }
     fp->fwd[a] = PlanAxis(a, mb, buf, ForwardKind(fp->bc[a]));
@@ -209,8 +207,7 @@ void TransformAxis(FastPoisson *fp, int a, bool forward, const PetscInt m[3], do
   }
   const long inner = a == 0 ? 1 : a == 1 ? (long)m[0] : (long)(m[0] * m[1]);
   const long total = (long)(m[0] * m[1] * m[2]), outer = total / (inner * m[a]);
-  kernels::dense_line_transform((int)m[a], inner, outer, fp->modes[a].data(), !forward, buf, fp->work.data());
-  std::copy(fp->work.begin(), fp->work.begin() + total, buf);
+  kernels::dense_line_transform((int)m[a], inner, outer, fp->modes[a].data(), !forward, buf);
 }
 
 // The mean face coefficient c of the operator A against the unit-coefficient one L: the ratio of their traces where A

@@ -133,12 +133,21 @@ TEST(SeparablePoisson, DenseModesAreOrthonormalEigenvectors)
           EXPECT_NEAR(dot, k == l ? 1.0 : 0.0, 1e-13) << "bc " << (int)bc << " n " << n << " modes " << k << ", " << l;
         }
       }
-      // three blocks of n x 4: forward then backward gives the input back
-      const long          inner = 4, outer = 3;
-      std::vector<double> x(outer * n * inner), t(x.size()), back(x.size());
+      // three blocks of n x 300 (more than one chunk of the planes): the forward transform is V^T x per block, and the
+      // backward transform gives the input back
+      const long          inner = 300, outer = 3;
+      std::vector<double> x(outer * n * inner), back(x.size());
       for (std::size_t q = 0; q < x.size(); ++q) x[q] = std::sin(0.37 * q + 0.1);
-      dense_line_transform(n, inner, outer, V.data(), false, x.data(), t.data());
-      dense_line_transform(n, inner, outer, V.data(), true, t.data(), back.data());
+      back = x;
+      dense_line_transform(n, inner, outer, V.data(), false, back.data());
+      for (long o = 0; o < outer; ++o)
+        for (int k = 0; k < n; ++k)
+          for (long q : {0L, 255L, 256L, inner - 1}) {
+            double ref = 0;
+            for (int j = 0; j < n; ++j) ref += V[j * n + k] * x[(o * n + j) * inner + q];
+            EXPECT_NEAR(back[(o * n + k) * inner + q], ref, 1e-13);
+          }
+      dense_line_transform(n, inner, outer, V.data(), true, back.data());
       for (std::size_t q = 0; q < x.size(); ++q) EXPECT_NEAR(back[q], x[q], 1e-13);
     }
 }

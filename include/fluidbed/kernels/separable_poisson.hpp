@@ -76,21 +76,28 @@ inline double line_mode(LineBC bc, int n, int k, int j)
   return 0.0;
 }
 
-// out[o][k][q] = sum_j V[j][k] in[o][j][q] (transpose: sum_k V[j][k] in[o][k][q] into out[o][j][q]) for blocks of outer
-// x n x inner values, V[j * n + k] = line_mode(k, j): the forward (backward) transform along an axis of n cells whose
-// stride is inner. in and out must not overlap.
-inline void dense_line_transform(int n, long inner, long outer, const double *V, bool transpose, const double *in, double *out)
+// In place on blocks of outer x n x inner values: x[o][k][q] <- sum_j V[j][k] x[o][j][q] (transpose: sum_k V[j][k]
+// x[o][k][q] into place j), V[j * n + k] = line_mode(k, j): the forward (backward) transform along an axis of n <= 16
+// cells whose stride is inner. Works through the planes in chunks of 256 positions copied to the stack, so the data is
+// read and written once.
+inline void dense_line_transform(int n, long inner, long outer, const double *V, bool transpose, double *x)
 {
+  constexpr long chunk = 256;
+  double         t[16 * chunk];
   for (long o = 0; o < outer; ++o) {
-    const double *x = in + o * n * inner;
-    double       *y = out + o * n * inner;
-    for (int k = 0; k < n; ++k) {
-      double *yk = y + k * inner;
-      for (long q = 0; q < inner; ++q) yk[q] = 0.0;
-      for (int j = 0; j < n; ++j) {
-        const double  c  = transpose ? V[k * n + j] : V[j * n + k];
-        const double *xj = x + j * inner;
-        for (long q = 0; q < inner; ++q) yk[q] += c * xj[q];
+    double *b = x + o * n * inner;
+    for (long q0 = 0; q0 < inner; q0 += chunk) {
+      const long c = inner - q0 < chunk ? inner - q0 : chunk;
+      for (int j = 0; j < n; ++j)
+        for (long q = 0; q < c; ++q) t[j * chunk + q] = b[j * inner + q0 + q];
+      for (int k = 0; k < n; ++k) {
+        double *y = b + k * inner + q0;
+        for (long q = 0; q < c; ++q) y[q] = 0.0;
+        for (int j = 0; j < n; ++j) {
+          const double  v  = transpose ? V[k * n + j] : V[j * n + k];
+          const double *tj = t + j * chunk;
+          for (long q = 0; q < c; ++q) y[q] += v * tj[q];
+        }
       }
     }
   }
