@@ -21,27 +21,9 @@
 
 using namespace fluidbed;
 using component::Check;
+using component::SetByNaturalIndex;
 
 static const char help[] = "fastpoisson PC against the assembled pressure operator (-varying: also CG on a varying operator, -max_its N)\n";
-
-namespace {
-
-// Writes value(natural index) into the owned cells of a scalar field of da.
-template <class Fn>
-PetscErrorCode SetByNaturalIndex(DM da, Vec v, const PetscInt n[3], Fn &&value)
-{
-  DMDAField f;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDAFieldGet(da, v, PETSC_FALSE, &f));
-  for (PetscInt k = f.s[2]; k < f.s[2] + f.m[2]; ++k)
-    for (PetscInt j = f.s[1]; j < f.s[1] + f.m[1]; ++j)
-      for (PetscInt i = f.s[0]; i < f.s[0] + f.m[0]; ++i) f(i, j, k) = value(i + n[0] * (j + n[1] * k));
-  PetscCall(DMDAFieldRestore(v, &f));
-  PetscFunctionReturn(0);
-}
-
-} // namespace
 
 int main(int argc, char **argv)
 {

@@ -2,6 +2,7 @@
 // (fields, boundary faces, pressure operator), created and destroyed together.
 #pragma once
 
+#include "fluidbed/dmda_field.hpp"
 #include "fluidbed/domain.hpp"
 #include "fluidbed/fluid.hpp"
 #include "fluidbed/grids.hpp"
@@ -34,6 +35,22 @@ inline PetscErrorCode GasSceneDestroy(GasScene *s)
   PetscFunctionBeginUser;
   PetscCall(FluidDestroy(&s->fluid));
   PetscCall(GridsDestroy(&s->grids));
+  PetscFunctionReturn(0);
+}
+
+// Writes value(natural index) into the owned cells of a scalar field of da: a field that does not depend on the
+// decomposition.
+template <class Fn>
+PetscErrorCode SetByNaturalIndex(DM da, Vec v, const PetscInt n[3], Fn &&value)
+{
+  DMDAField f;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAFieldGet(da, v, PETSC_FALSE, &f));
+  for (PetscInt k = f.s[2]; k < f.s[2] + f.m[2]; ++k)
+    for (PetscInt j = f.s[1]; j < f.s[1] + f.m[1]; ++j)
+      for (PetscInt i = f.s[0]; i < f.s[0] + f.m[0]; ++i) f(i, j, k) = value(i + n[0] * (j + n[1] * k));
+  PetscCall(DMDAFieldRestore(v, &f));
   PetscFunctionReturn(0);
 }
 

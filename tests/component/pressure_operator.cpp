@@ -31,6 +31,7 @@
 using namespace fluidbed;
 using component::Check;
 using component::GatherNatural;
+using component::SetByNaturalIndex;
 
 static const char help[] = "Pressure operator against a hand-built one (-drag: with an implicit drag; -dt step; -field_seed S)\n";
 
@@ -135,21 +136,6 @@ PetscErrorCode Compare(MPI_Comm comm, const char *label, const std::vector<Petsc
                         (int)N, (int)N, nonzero, worst));
   PetscCall(
     Check(comm, bad == 0, "  every entry within 1e-12 of the row's diagonal of the hand-built operator (wrong entries)", rank ? 0 : bad));
-  PetscFunctionReturn(0);
-}
-
-// Writes value(natural index) into the owned cells of a scalar field of da.
-template <class Fn>
-PetscErrorCode SetByNaturalIndex(DM da, Vec v, const PetscInt n[3], Fn &&value)
-{
-  DMDAField f;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDAFieldGet(da, v, PETSC_FALSE, &f));
-  for (PetscInt k = f.s[2]; k < f.s[2] + f.m[2]; ++k)
-    for (PetscInt j = f.s[1]; j < f.s[1] + f.m[1]; ++j)
-      for (PetscInt i = f.s[0]; i < f.s[0] + f.m[0]; ++i) f(i, j, k) = value(i + n[0] * (j + n[1] * k));
-  PetscCall(DMDAFieldRestore(v, &f));
   PetscFunctionReturn(0);
 }
 
