@@ -458,6 +458,14 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(SplitBoomerAMGSmoother(f));
   PetscCall(AdaptPreconditioner(f));
   {
+    PetscBool   is_fp;
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(f->comm, &size));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFASTPOISSON, &is_fp));
+    PetscCheck(!is_fp || FastPoissonFits(f), f->comm, PETSC_ERR_USER_INPUT,
+               "-fluid_p_pc_type fastpoisson needs at least as many fluid cells as ranks along x and along y (here %d x %d cells on %d "
+               "ranks): use fewer ranks, more -grid_nx / -grid_ny cells, or another -fluid_p_pc_type (pfmg, hypre)",
+               (int)f->n[0], (int)f->n[1], (int)size);
     const PetscReal weight[3] = {f->area[0] / f->h[0], f->area[1] / f->h[1], f->area[2] / f->h[2]};
     PetscCall(PCFastPoissonSetGrid(pc, f->da_p, weight, f->has_dirichlet));
   }

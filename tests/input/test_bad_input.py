@@ -75,6 +75,9 @@ check_cases([(["-fluid", "-domain_dim", "2", "-domain_lx", "0.01", "-domain_ly",
 
 # A subdomain narrower than the ghost layer (ghosts reach the neighbouring subdomains only): 3 particle cells of one
 # diameter over 2 ranks leave one of them a single cell, 1 mm, under d + skin = 1.1 mm.
+# the fast Poisson PC's pencils need at least as many cells as ranks along x and y: a gas one cell wide on 2 ranks
+check_cases([(["-particles", "0", "-fluid", "-domain_dim", "2", "-grid_nx", "1", "-grid_ny", "16", "-pgrid_processors", "1,2",
+               "-fluid_p_pc_type", "fastpoisson"], ["-fluid_p_pc_type fastpoisson", "1 x 16 cells on 2 ranks", "pfmg, hypre"])], ranks=(2,))
 check_cases([(["-domain_dim", "2", "-domain_lx", "0.003", "-domain_ly", "0.02", "-domain_lz", "0.001", "-pgrid_cell_diameters", "1",
                "-insert_count", "20"], ["process 1 of 2 along x", "narrower than the ghost layer", "-pgrid_processors", "-dem_skin"])],
             ranks=(2,))
