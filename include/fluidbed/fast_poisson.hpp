@@ -10,6 +10,13 @@ namespace fluidbed {
 
 #define PCFASTPOISSON "fastpoisson"
 
+// Whether the PC's pencil layouts fit a grid of n[0] x n[1] (x n[2]) cells on `ranks` ranks: at least as many cells as
+// ranks along x (the line-solve pencils are split along x) and along y (the transform pencils along y).
+inline bool FastPoissonPencilsFit(const PetscInt n[3], PetscMPIInt ranks)
+{
+  return n[0] >= ranks && n[1] >= ranks;
+}
+
 // Adds "fastpoisson" to PETSc's PC types (again is harmless).
 PetscErrorCode FastPoissonRegister();
 // Gives a fastpoisson PC its grid: da, a cell-centred DMDA of the pressure's layout (its sizes, periodic axes and

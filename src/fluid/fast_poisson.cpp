@@ -36,15 +36,15 @@ struct FastPoisson {
   PetscBool grid_set = PETSC_FALSE;
 
   PetscMPIInt size = 1;
-  // pencil T: cells with y in [ty0, ty1), all x and z, x fastest then y then z; pencil S: x in [sx0, sx1), all y and z
-  PetscInt            ty0 = 0, ty1 = 1, sx0 = 0, sx1 = 1;
+  // pencil T: cells with y in [ty0, ty1), all x and z, x fastest then y then z; pencil S: x in [sx0, sx1), all y and z;
+  // mt and ms their local blocks' cell counts per axis
+  PetscInt            ty0 = 0, ty1 = 1, sx0 = 0, sx1 = 1, mt[3]{1, 1, 1}, ms[3]{1, 1, 1};
   double             *buf_t = nullptr, *buf_s = nullptr; // fftw_malloc'ed (buf_s == buf_t on one rank)
   Vec                 vt = nullptr, vs = nullptr;
   VecScatter          to_t = nullptr, to_s = nullptr; // fluid -> T, T -> S
   fftw_plan           fwd[3]{}, bwd[3]{};             // per transformed axis (x, z on T; y on S when periodic)
   bool                transformed[3]{false, false, false};
   std::vector<double> modes[3];            // short axes (at most kDenseCells): the orthonormal modes, V[j n + k], instead of FFTW
-  std::vector<double> work;                // the dense transforms' output
   std::vector<double> inv;                 // S layout: Thomas factors per mode line (y solved) or 1 / eigenvalue (y transformed)
   PetscReal           scale = 1, coef = 1; // 1 / (transforms' normalisation), the mean face coefficient
   PetscInt            applies = 0;
@@ -96,7 +96,7 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
   PetscCallMPI(MPI_Comm_size(comm, &fp->size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   const PetscMPIInt P = fp->size;
-  PetscCheck(fp->n[1] >= P && fp->n[0] >= P, comm, PETSC_ERR_SUP,
+  PetscCheck(FastPoissonPencilsFit(fp->n, P), comm, PETSC_ERR_SUP,
              "-fluid_p_pc_type fastpoisson: the pencils need at least as many cells as ranks along x and y (%d x %d cells, %d ranks)",
              (int)fp->n[0], (int)fp->n[1], (int)P);
   fp->ty0              = SplitStart(fp->n[1], P, rank);
@@ -104,6 +104,10 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
   fp->sx0              = SplitStart(fp->n[0], P, rank);
   fp->sx1              = SplitStart(fp->n[0], P, rank + 1);
   const PetscInt mt[3] = {fp->n[0], fp->ty1 - fp->ty0, fp->n[2]}, ms[3] = {fp->sx1 - fp->sx0, fp->n[1], fp->n[2]};
+  for (int a = 0; a < 3; ++a) {
+    fp->mt[a] = mt[a];
+    fp->ms[a] = ms[a];
+  }
   const PetscInt nt = mt[0] * mt[1] * mt[2], ns = ms[0] * ms[1] * ms[2];
   fp->buf_t = fftw_alloc_real((size_t)PetscMax(nt, 1));
   fp->buf_s = P == 1 ? fp->buf_t : fftw_alloc_real((size_t)PetscMax(ns, 1));
@@ -282,7 +286,7 @@ PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
   }
   PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
   PetscCall(PetscLogEventBegin(ev_transform, pc, 0, 0, 0));
-  const PetscInt mt[3] = {fp->n[0], fp->ty1 - fp->ty0, fp->n[2]}, ms[3] = {fp->sx1 - fp->sx0, fp->n[1], fp->n[2]};
+  const PetscInt *mt = fp->mt, *ms = fp->ms;
   if (fp->transformed[0]) TransformAxis(fp, 0, true, mt, fp->buf_t);
   if (fp->dim == 3 && fp->transformed[2]) TransformAxis(fp, 2, true, mt, fp->buf_t);
   PetscCall(PetscLogEventEnd(ev_transform, pc, 0, 0, 0));
@@ -293,7 +297,7 @@ PetscErrorCode PCApply_FastPoisson(PC pc, Vec r, Vec y)
     PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
   }
   PetscCall(PetscLogEventBegin(ev_solve, pc, 0, 0, 0));
-  const PetscInt mx = fp->sx1 - fp->sx0, plane = mx * fp->n[1];
+  const PetscInt mx = ms[0], plane = mx * fp->n[1];
   const double   s = fp->scale / fp->coef;
   if (fp->transformed[1]) {
     TransformAxis(fp, 1, true, ms, fp->buf_s);

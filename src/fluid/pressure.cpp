@@ -352,21 +352,13 @@ PetscErrorCode AdaptPreconditioner(Fluid *f)
   PetscFunctionReturn(0);
 }
 
-// Whether the fastpoisson PC's pencils fit the ranks: at least as many cells as ranks along x and along y.
-bool FastPoissonFits(const Fluid *f)
-{
-  PetscMPIInt size;
-  MPI_Comm_size(f->comm, &size);
-  return f->n[0] >= size && f->n[1] >= size;
-}
-
 // The matrix type and the default PC. The default is fastpoisson (src/fluid/fast_poisson.cpp: the separable inverse with
-// one face coefficient, exact for model B without drag and a few CG iterations with it; 3-8 times cheaper per solve
+// one face coefficient, exact for model B without drag and a few CG iterations with it; 1.4-8 times cheaper per solve
 // than PFMG and BoomerAMG on the seed's beds, docs/ksp.md) on an AIJ matrix wherever its pencils fit. Otherwise
 // hypre's structured multigrid (PFMG, on a MATHYPRESTRUCT matrix), which PETSc 3.18 offers for 3D, non-periodic DMDAs
 // only, and BoomerAMG on AIJ elsewhere. -fluid_p_pc_type other than pfmg selects AIJ; -fluid_p_mat_type overrides the
 // choice.
-PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured, PetscBool *fast)
+PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool fast_fits, PetscBool *structured, PetscBool *fast)
 {
   char      pc_type[64] = "", mat_type[64] = "";
   PetscBool pc_set, mat_set;
@@ -378,7 +370,7 @@ PetscErrorCode ChooseMatrixType(Fluid *f, PetscBool *structured, PetscBool *fast
                           "a Mat type", mat_type, sizeof(mat_type), &mat_set));
   PetscOptionsEnd();
   const PetscBool struct_ok = (PetscBool)(f->dim == 3 && !f->periodic[0] && !f->periodic[1] && !f->periodic[2]);
-  *fast                     = (PetscBool)(!pc_set && FastPoissonFits(f));
+  *fast                     = (PetscBool)(!pc_set && fast_fits);
   PetscBool want_pfmg       = pc_set ? (PetscBool)!strcmp(pc_type, PCPFMG) : (PetscBool)(struct_ok && !*fast);
   if (mat_set) {
     PetscCall(DMSetMatType(f->da_p, mat_type));
@@ -422,14 +414,17 @@ PetscErrorCode SplitBoomerAMGSmoother(Fluid *f)
 
 PetscErrorCode FluidPressureCreate(Fluid *f)
 {
-  PC        pc;
-  PetscBool structured = PETSC_FALSE, fast = PETSC_FALSE;
+  PC          pc;
+  PetscBool   structured = PETSC_FALSE, fast = PETSC_FALSE;
+  PetscMPIInt size;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(f->comm, &size));
+  const PetscBool fast_fits = (PetscBool)FastPoissonPencilsFit(f->n, size);
   PetscCall(DMDASetInterpolationType(f->da_p, DMDA_Q0));
   PetscCall(FastPoissonRegister());                        // -fluid_p_pc_type fastpoisson
   PetscCall(OptionsCheckSolverTypes(f->comm, "fluid_p_")); // a misspelled -fluid_p_ksp_type names the choices
-  PetscCall(ChooseMatrixType(f, &structured, &fast));
+  PetscCall(ChooseMatrixType(f, fast_fits, &structured, &fast));
   PetscCall(DMCreateMatrix(f->da_p, &f->A));
   PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRIC, PETSC_TRUE));
@@ -458,11 +453,9 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(SplitBoomerAMGSmoother(f));
   PetscCall(AdaptPreconditioner(f));
   {
-    PetscBool   is_fp;
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(f->comm, &size));
+    PetscBool is_fp;
     PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFASTPOISSON, &is_fp));
-    PetscCheck(!is_fp || FastPoissonFits(f), f->comm, PETSC_ERR_USER_INPUT,
+    PetscCheck(!is_fp || fast_fits, f->comm, PETSC_ERR_USER_INPUT,
                "-fluid_p_pc_type fastpoisson needs at least as many fluid cells as ranks along x and along y (here %d x %d cells on %d "
                "ranks): use fewer ranks, more -grid_nx / -grid_ny cells, or another -fluid_p_pc_type (pfmg, hypre)",
                (int)f->n[0], (int)f->n[1], (int)size);
