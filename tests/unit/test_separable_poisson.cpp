@@ -13,26 +13,6 @@ using namespace fluidbed::kernels;
 
 namespace {
 
-// The mode at transform index k along an axis of n cells (values at the cell centres j = 0..n-1).
-std::vector<double> Mode(LineBC bc, int n, int k)
-{
-  std::vector<double> v(n);
-  for (int j = 0; j < n; ++j) {
-    switch (bc) {
-    case LineBC::WallWall:
-      v[j] = std::cos(M_PI * k * (j + 0.5) / n);
-      break;
-    case LineBC::WallPressure:
-      v[j] = std::cos(M_PI * (k + 0.5) * (j + 0.5) / n);
-      break;
-    case LineBC::Periodic:
-      v[j] = k <= n / 2 ? std::cos(2 * M_PI * k * j / n) : std::sin(2 * M_PI * (n - k) * j / n);
-      break;
-    }
-  }
-  return v;
-}
-
 // Dense Gaussian elimination with partial pivoting of A x = b (n x n, row-major).
 std::vector<double> DenseSolve(std::vector<double> A, std::vector<double> b)
 {
@@ -84,24 +64,22 @@ TEST(SeparablePoisson, LineMatrixIsTheProjectionsRows)
       }
 }
 
-// T v_k = lambda_k v_k for every mode of the transform, to round-off, on odd, even and one-cell axes.
+// T v_k = lambda_k v_k for every orthonormal mode of the transform (line_mode, in FFTW's order) to 5e-14 (the largest
+// seen is 2.5e-14, at 175 cells), on odd, even and one-cell axes.
 TEST(SeparablePoisson, EigenvaluesBelongToTheTransformModes)
 {
   for (LineBC bc : kAll)
-    for (int n : {1, 2, 3, 4, 5, 16, 175}) {
+    for (int n : {1, 2, 3, 4, 5, 8, 16, 175}) {
       if (bc == LineBC::Periodic && n == 1) continue;
       for (int k = 0; k < n; ++k) {
-        const std::vector<double> v   = Mode(bc, n, k);
-        const double              lam = line_eigenvalue(bc, n, k);
-        double                    err = 0, norm = 0;
+        const double lam = line_eigenvalue(bc, n, k);
+        double       err = 0;
         for (int j = 0; j < n; ++j) {
           double tv = 0;
-          for (int l = 0; l < n; ++l) tv += line_matrix_entry(bc, n, j, l) * v[l];
-          err  = std::fmax(err, std::fabs(tv - lam * v[j]));
-          norm = std::fmax(norm, std::fabs(v[j]));
+          for (int l = 0; l < n; ++l) tv += line_matrix_entry(bc, n, j, l) * line_mode(bc, n, k, l);
+          err = std::fmax(err, std::fabs(tv - lam * line_mode(bc, n, k, j)));
         }
-        if (norm == 0) continue; // the sine of frequency 0 or n/2 does not exist
-        EXPECT_LT(err, 1e-12 * (1 + lam) * norm) << "bc " << (int)bc << " n " << n << " k " << k;
+        EXPECT_LT(err, 5e-14) << "bc " << (int)bc << " n " << n << " k " << k;
         EXPECT_GE(lam, 0.0);
         EXPECT_LE(lam, 4.0 + 1e-12);
       }
@@ -111,8 +89,8 @@ TEST(SeparablePoisson, EigenvaluesBelongToTheTransformModes)
   EXPECT_GT(line_eigenvalue(LineBC::WallPressure, 9, 0), 0.0); // the outlet fixes the level: no null space
 }
 
-// The orthonormal modes: T V = V diag(lambda) and V^T V = I; the dense transform and its transpose invert each other.
-TEST(SeparablePoisson, DenseModesAreOrthonormalEigenvectors)
+// The modes are orthonormal (V^T V = I), and the dense transform and its transpose invert each other.
+TEST(SeparablePoisson, DenseModesAreOrthonormal)
 {
   for (LineBC bc : kAll)
     for (int n : {1, 2, 3, 4, 5, 8}) {
@@ -121,12 +99,6 @@ TEST(SeparablePoisson, DenseModesAreOrthonormalEigenvectors)
       for (int j = 0; j < n; ++j)
         for (int k = 0; k < n; ++k) V[j * n + k] = line_mode(bc, n, k, j);
       for (int k = 0; k < n; ++k) {
-        const double lam = line_eigenvalue(bc, n, k);
-        for (int j = 0; j < n; ++j) {
-          double tv = 0;
-          for (int l = 0; l < n; ++l) tv += line_matrix_entry(bc, n, j, l) * V[l * n + k];
-          EXPECT_NEAR(tv, lam * V[j * n + k], 1e-13) << "bc " << (int)bc << " n " << n << " mode " << k;
-        }
         for (int l = 0; l < n; ++l) {
           double dot = 0;
           for (int j = 0; j < n; ++j) dot += V[j * n + k] * V[j * n + l];
