@@ -12,7 +12,12 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
   muller     the Muller bubbling bed at 0.6 m/s (examples/muller_bed_u060.opts, from its own settled start): the
              time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor and
              -couple_substeps (hours per point). The averaging window is not run again: the windows 0.25-4 s are cut
-             from the longest run's pressure series and compared with its full average (their own panel, --png);
+             from the longest run's pressure series and compared with its full average (their own panel, --png).
+             Its second answer, muller_profile (derived rows, their own panel): the voidage profiles across the bed
+             at the seed's 16.4 and 31.2 mm (Fig. 2.6), time-averaged over the same window and made mirror-
+             symmetric (the bed is; a 4 s average is not, docs/validation.md), against the converged reference
+             run at t_cr/20 (MULLER_REFERENCE): the rms relative difference over the cells of both rows, with the
+             rms the two runs' standard errors (block means of 0.5 s) alone would give as its uncertainty;
   jet2d      the 750 um jetted 2D pseudo-bed of the stability map (scripts/stability_map.py; its runs, read from its
              table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
              against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
@@ -34,6 +39,7 @@ import os
 import numpy as np
 
 from fluidbed_tools import outputs, reference, run, study
+import profile_asymmetry  # the voidage rows of a run's snapshots and their block-means errors
 import umf_sweep  # the small bed's particles, geometry and pressure probes
 
 ROOT = run.ROOT
@@ -97,7 +103,8 @@ def packed_error(out, k):
 
 def muller_options(k):
     return ["-options_file", os.path.join(EX, "muller_bed_u060.opts"), "-t_final", MULLER_WINDOW + 1.0, "-dem_dt_factor", k["dt_factor"],
-            "-couple_substeps", k["substeps"], "-average_start", 1.0, "-output_particles", 0, "-checkpoint_interval", 0, "-output_interval", 0]
+            "-couple_substeps", k["substeps"], "-average_start", 1.0, "-output_particles", 0, "-checkpoint_interval", 0, "-output_interval",
+            MULLER_SNAPSHOT_DT]
 
 
 def muller_error(out, k):
@@ -119,6 +126,52 @@ def batch_error(series, batches=10):
 
 
 MULLER_WINDOW = 4.0  # s: every Muller point averages over 1-5 s; the window rows are cut from the default point's run
+MULLER_SNAPSHOT_DT = 0.05  # s: the gas snapshots the profiles are averaged from (80 in the window)
+MULLER_LY = 0.160  # m: the bed's height (examples/muller_bed_u060.opts)
+MULLER_HEIGHTS = (0.0164, 0.0312)  # m: the seed's profiles (Fig. 2.6)
+MULLER_REFERENCE = {"dt_factor": 0.05, "substeps": 1}  # the profiles' converged reference: t_cr/20, a gas step per DEM step
+MULLER_BLOCK = 0.5  # s: block length of the profiles' standard errors (longer than the bubble period)
+
+
+def muller_profiles(out, start=1.0):
+    """The mirror-symmetric time-averaged voidage rows at MULLER_HEIGHTS from a run's snapshots at or after start,
+    concatenated, with each cell's standard error by block means (MULLER_BLOCK), and the snapshots used."""
+    means, errs, count = [], [], 0
+    for h in MULLER_HEIGHTS:
+        times, rows = profile_asymmetry.read_rows(out, h, start, MULLER_LY)
+        if len(times) < 2:
+            return None, None, 0
+        sym = 0.5 * (rows + rows[:, ::-1])
+        means.append(sym.mean(axis=0))
+        errs.append([profile_asymmetry.block_error(sym[:, i], times, MULLER_BLOCK) for i in range(sym.shape[1])])
+        count = len(times)
+    return np.concatenate(means), np.concatenate(errs), count
+
+
+def profile_difference(out, ref_out):
+    """The rms relative difference of run out's profiles (muller_profiles) from ref_out's over all cells, and the rms
+    the two runs' standard errors alone give (what two runs of the same settings would differ by)."""
+    m, e, n = muller_profiles(out)
+    r, re, nr = muller_profiles(ref_out)
+    if not n or not nr or m.shape != r.shape:
+        return float("nan"), float("nan")
+    return float(np.sqrt(np.mean(((m - r) / r) ** 2))), float(np.sqrt(np.mean((e ** 2 + re ** 2) / r ** 2)))
+
+
+def muller_profile_rows(rows, out_dir):
+    """The muller_profile rows: every finished Muller point's profiles against the reference point's (none until the
+    reference has run)."""
+    ref_id = point_id("muller", dict(PROBLEMS["muller"]["defaults"], **MULLER_REFERENCE))
+    if not any(r["id"] == ref_id and r["status"] == "ok" for r in rows):
+        return []
+    out = []
+    for r in rows:
+        if r["problem"] != "muller" or r["status"] != "ok" or r["id"] == ref_id:
+            continue
+        err, unc = profile_difference(os.path.join(out_dir, r["id"]), os.path.join(out_dir, ref_id))
+        out.append({"problem": "muller_profile", "knob": r["knob"], "id": "muller_profile" + r["id"][len("muller"):], "dt_factor": r["dt_factor"],
+                    "substeps": r["substeps"], "status": "derived", "error": err, "uncertainty": unc, "cost": r["cost"]})
+    return out
 MULLER_WINDOWS = [0.25, 0.5, 1.0, 2.0]
 
 
@@ -292,6 +345,8 @@ def main():
         study.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
         if row["problem"] == "muller" and row["knob"] == "dt_factor" and pt[2] == PROBLEMS["muller"]["defaults"] and row["cost"] == row["cost"]:
             rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
+    if "muller" in problems:
+        rows += muller_profile_rows(rows, args.out)
     if derived:
         rows += jet2d_rows(args.stability_csv)
     if args.keep_csv:
