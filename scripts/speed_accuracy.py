@@ -21,7 +21,8 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
   jet2d      the 750 um jetted 2D pseudo-bed of the stability map (scripts/stability_map.py; its runs, read from its
              table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
              against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
-             relative errors; knobs the gas cell width with single or two grids, -dem_dt_factor, -couple_substeps;
+             relative errors; knobs the gas cell width with single or two grids, -dem_dt_factor, -couple_substeps, and
+             the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv);
              uncertainty: the reference against its mirrored-start twin.
 Cost: wall seconds per simulated second per core (summary.json). Each problem's Pareto front (no other point both
 cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
@@ -190,7 +191,8 @@ def muller_window_rows(out, cost):
 
 
 def jet2d_rows(path):
-    """The stability map's 2D jetted-bed points at the seed's jet that finished, as chart rows (see jet2d above)."""
+    """The stability map's 2D jetted-bed points at the seed's jet that finished, as chart rows (see jet2d above), each
+    against the reference point of its own table (the main map's, or the ratio map's own run of it)."""
     if not os.path.exists(path):
         return []
     table = list(csv.DictReader(open(path)))
@@ -203,11 +205,14 @@ def jet2d_rows(path):
     unc = max(rel(twin, "dp_over_weight"), rel(twin, "bed_height_mm")) if twin and twin.get("dp_over_weight") else float("nan")
     rows = []
     for r in table:
-        if r["map"] not in ("cell_dt", "jet_sub") or float(r["jet"]) != 45.3 or r["id"].endswith("_mirror") or r["id"] == r0["id"]:
+        if r["map"] not in ("cell_dt", "jet_sub", "ratio") or float(r["jet"]) != 45.3 or r["id"].endswith("_mirror") or r["id"] == r0["id"]:
             continue
-        row = {"problem": "jet2d", "knob": "substeps" if r["map"] == "jet_sub" else "cell_dt", "id": "jet2d_" + r["id"], "status": r["status"],
-               "exit_status": r["exit_status"], "dt_factor": float(r["dt_factor"]), "substeps": int(r["substeps"]),
-               "cell": "%s %s d" % (r["method"], r["cell_d"]), "error": float("nan"), "uncertainty": unc,
+        cell = "%s %s d" % (r["method"], r["cell_d"])
+        if r["map"] == "ratio":
+            cell += ", particle cells %s" % r["cells_per_particle_cell"]
+        row = {"problem": "jet2d", "knob": {"jet_sub": "substeps", "ratio": "pgrid_ratio"}.get(r["map"], "cell_dt"), "id": "jet2d_" + r["id"],
+               "status": r["status"], "exit_status": r["exit_status"], "dt_factor": float(r["dt_factor"]), "substeps": int(r["substeps"]),
+               "cell": cell, "error": float("nan"), "uncertainty": unc,
                "cost": float(r["cost_s_per_s_core"]) if r.get("cost_s_per_s_core") else float("nan"), "overlap_max": r.get("overlap_max")}
         if r.get("dp_over_weight") and r["class"] != "unstable":
             row["error"] = max(rel(r, "dp_over_weight"), rel(r, "bed_height_mm"))
@@ -261,9 +266,11 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     probs = sorted({r["problem"] for r in rows})
     fig, axes = plt.subplots(1, len(probs), figsize=(5 * len(probs), 4.5), squeeze=False)
-    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt"], "osD^vPX"))
+    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt", "pgrid_ratio"], "osD^vPX*"))
 
     def label(r, knob):
+        if knob == "pgrid_ratio":
+            return r["cell"].split(", ")[-1]
         return "%s, dt %g" % (r["cell"], r["dt_factor"]) if knob == "cell_dt" else "%g" % r[knob]
 
     for ax, name in zip(axes[0], probs):
@@ -307,6 +314,8 @@ def main():
     ap.add_argument("--report", action="store_true", help="tabulate and draw the finished points only (runs nothing)")
     ap.add_argument("--stability-csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"),
                     help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
+    ap.add_argument("--ratio-csv", default=os.path.join(ROOT, "docs", "stability", "pgrid_ratio.csv"),
+                    help="the stability map's particle-grid ratio table (its --maps ratio, with its own reference run): jet2d points of knob pgrid_ratio")
     args = ap.parse_args()
     problems = ["bounce"] if args.ci else args.problems.split(",")
     derived = "jet2d" in problems
@@ -348,7 +357,7 @@ def main():
     if "muller" in problems:
         rows += muller_profile_rows(rows, args.out)
     if derived:
-        rows += jet2d_rows(args.stability_csv)
+        rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)
     if args.keep_csv:
         have = set(r["id"] for r in rows)
         rows += study.kept_rows(args.csv, lambda r: r["id"] not in have)

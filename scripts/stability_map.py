@@ -8,7 +8,8 @@ finish, by its answers against the reference point (two grids on the seed's fine
   inaccurate  finished, some measure outside (which one is said);
   unstable    a guard stopped the run (which guard, when), or the start-up refused it.
 Maps: cell_dt (gas cell width / d against -dem_dt_factor), jet_sub (jet velocity against -couple_substeps), closed
-(the closed-box energy of a pure DEM granular gas against -dem_dt_factor). A finished point is never rerun, so the
+(the closed-box energy of a pure DEM granular gas against -dem_dt_factor), ratio (the particle grid's cells, in gas
+cells, on the reference's gas grid and step: the two-grid method's own knob, -pgrid_ratio; RATIOS). A finished point is never rerun, so the
 study resumes where it stopped; --jobs runs points side by side and --ranks runs each on more ranks. docs/stability.md
 has the results; the table goes to --csv, the figure to --png.
 
@@ -16,6 +17,7 @@ example:
   scripts/stability_map.py --jobs 2                      # every map, resuming
   scripts/stability_map.py --maps cell_dt --ranks 2 --jobs 8
   scripts/stability_map.py --ci --out build/stability_ci # the short version tests/analysis/test_stability_map.py runs
+  scripts/stability_map.py --maps ratio --jobs 2 --csv docs/stability/pgrid_ratio.csv   # the ratio map, its own table
 """
 import argparse
 import csv
@@ -42,6 +44,10 @@ JET_X, JET_W, JET_V = 0.0282, 0.001611429, 45.3  # the seed's slit (5 cells of i
 # The reference: two grids on the seed's fine grid (0.43 d wide gas cells) at t_cr/20, the finest point that holds (at the
 # seed's t_cr/10 the explicit gas step exceeds its limit in the jet for longer than the Courant guard allows).
 REFERENCE = {"map": "cell_dt", "method": "two", "cell_d": 0.43, "dt_factor": 0.05, "jet": 45.3, "substeps": 1}
+# The ratio map's particle cells, in gas cells of the reference's 0.322 x 1.4 mm grid (175 x 100: x divides by 5, 7,
+# 25; y by 2, 4): 1.61 x 1.4 mm (2.1 x 1.9 d), 1.61 x 2.8 (2.1 x 3.7 d), the reference's 2.26 x 2.8 (3 x 3.7 d, the
+# seed's choice), 2.26 x 5.6 (3 x 7.5 d) and 8.05 x 5.6 mm (10.7 x 7.5 d, seven particle cells across the bed).
+RATIOS = [(5, 1), (5, 2), (7, 4), (25, 4)]
 
 # "inaccurate" thresholds (docs/stability.md): relative to the reference, or absolute where said
 THRESHOLDS = {"dp_rel": 0.10, "bed_height_rel": 0.10, "jet_rel": 0.25, "eps_rms_ratio": 2.0, "floor_share": 0.0, "overlap": 0.05}
@@ -56,6 +62,13 @@ def grid(cell_d):
         return nx, int(round(LY / (LX / nx))), 1, 1
     rx = max(1, int(round(3.0 / cell_d)))
     return NXP * rx, int(round(LY / HY)), rx, 2
+
+
+def cells(p):
+    """The point's gas grid and particle cells (nx, ny, ratio_x, ratio_y): grid(cell_d), with the ratio map's own
+    particle cells."""
+    nx, ny, rx, ry = grid(p["cell_d"])
+    return (nx, ny) + tuple(p["ratio"]) if p.get("ratio") else (nx, ny, rx, ry)
 
 
 def slit(nx, jet):
@@ -79,7 +92,8 @@ def point_id(p):
         return "closed_dt%g" % p["dt_factor"]
     if p["map"] == "3d":
         return "3d_%s_%s_dt%g" % (p["grid3d"], p["method"], p["dt_factor"])
-    return "%s_%s_cell%g_dt%g_jet%g_sub%d%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], p.get("tag", ""))
+    ratio = "_p%dx%d" % tuple(p["ratio"]) if p.get("ratio") else ""
+    return "%s_%s_cell%g_dt%g_jet%g_sub%d%s%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], ratio, p.get("tag", ""))
 
 
 def options(p, args, settled):
@@ -94,7 +108,7 @@ def options(p, args, settled):
                 "-average_interval", 5e-4, "-output_interval", t / 20, "-checkpoint_interval", "0", "-output_particles", "0",
                 "-fluid_output_cells", "0", "-monitor_dt", 5e-4]
     settled = settled[0] if settled else None
-    nx, ny, rx, ry = grid(p["cell_d"])
+    nx, ny, rx, ry = cells(p)
     w, v = slit(nx, p["jet"])
     t = args.t_final
     o = ["-options_file", SCENE, "-grid_nx", nx, "-grid_ny", ny, "-pgrid_ratio", "%d,%d" % (rx, ry), "-couple_grid", p["method"],
@@ -130,7 +144,7 @@ def measure(p, s, status, wall, outdir, args):
         nx, ny, nz, ratio = GRIDS3D[p["grid3d"]]
         m.update({"gas_cells": "%dx%dx%d" % (nx, ny, nz), "cells_per_particle_cell": ratio.replace(",", "x"), "cell_d": round(LX / nx / D, 3)})
     elif p["map"] != "closed":
-        nx, ny, rx, ry = grid(p["cell_d"])
+        nx, ny, rx, ry = cells(p)
         m.update({"gas_cells": "%dx%d" % (nx, ny), "cells_per_particle_cell": "%dx%d" % (rx, ry), "slit_mm": round(1e3 * slit(nx, p["jet"])[0], 4)})
     if s is None:
         m["status"] = "refused" if status == 2 else "failed"
@@ -221,6 +235,9 @@ def points(maps, ci):
         for g3, method, dt in (("fine", "two", 0.1), ("fine", "two", 0.05), ("fine", "single", 0.1), ("coarse", "two", 0.1),
                                ("coarse", "single", 0.1), ("coarse", "two", 0.5), ("coarse", "two", 1.0)):
             pts.append({"map": "3d", "grid3d": g3, "method": method, "dt_factor": dt, "jet": JET_V, "substeps": 1})
+    if "ratio" in maps:
+        for r in RATIOS:
+            pts.append({k: REFERENCE[k] for k in ("method", "cell_d", "dt_factor", "jet", "substeps")} | {"map": "ratio", "ratio": r})
     if "closed" in maps:
         for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
             pts.append({"map": "closed", "dt_factor": dt})
@@ -306,7 +323,7 @@ def plot(rows, path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--maps", default="cell_dt,jet_sub,closed", help="which maps (comma-separated): cell_dt, jet_sub, closed")
+    ap.add_argument("--maps", default="cell_dt,jet_sub,closed", help="which maps (comma-separated): cell_dt, jet_sub, closed, 3d, ratio")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "stability"), help="working directory of the runs (kept: the study resumes)")
     ap.add_argument("--csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"), help="the table of every point")
     ap.add_argument("--png", default=os.path.join(ROOT, "docs", "figures", "stability_map.png"), help="the map")
@@ -368,7 +385,7 @@ def main():
             w.writerow({k: ("%.4g" % r[k] if isinstance(r.get(k), float) else r.get(k, "")) for k in keys})
     with open(os.path.splitext(args.csv)[0] + "_thresholds.json", "w") as f:
         json.dump({"thresholds": tol, "reference": ref}, f, indent=1)
-    if not args.ci:
+    if not args.ci and set(maps) & {"cell_dt", "jet_sub", "closed"}:  # the map's panels (the 3d and ratio points are tables)
         os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
         plot(rows, args.png)
     counts = {c: sum(r["class"] == c for r in rows) for c in ("stable", "inaccurate", "unstable")}
