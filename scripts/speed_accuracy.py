@@ -210,7 +210,10 @@ def jet2d_rows(path):
         cell = "%s %s d" % (r["method"], r["cell_d"])
         if r["map"] == "ratio":
             cell += ", particle cells %s" % r["cells_per_particle_cell"]
-        row = {"problem": "jet2d", "knob": {"jet_sub": "substeps", "ratio": "pgrid_ratio"}.get(r["map"], "cell_dt"), "id": "jet2d_" + r["id"],
+        # the ratio table's points were run with their own reference, on another executable and machine load than the
+        # main map's: a panel and a Pareto front of their own (jet2d_ratio), not costs to set beside the main map's
+        row = {"problem": "jet2d_ratio" if r["map"] == "ratio" else "jet2d", "knob": {"jet_sub": "substeps", "ratio": "pgrid_ratio"}.get(r["map"], "cell_dt"),
+               "id": "jet2d_" + r["id"],
                "status": r["status"], "exit_status": r["exit_status"], "dt_factor": float(r["dt_factor"]), "substeps": int(r["substeps"]),
                "cell": cell, "error": float("nan"), "uncertainty": unc,
                "cost": float(r["cost_s_per_s_core"]) if r.get("cost_s_per_s_core") else float("nan"), "overlap_max": r.get("overlap_max")}
