@@ -34,6 +34,7 @@ example:
 """
 import argparse
 import csv
+import functools
 import math
 import os
 
@@ -127,6 +128,7 @@ def batch_error(series, batches=10):
 
 
 MULLER_WINDOW = 4.0  # s: every Muller point averages over 1-5 s; the window rows are cut from the default point's run
+MULLER_WINDOWS = [0.25, 0.5, 1.0, 2.0]
 MULLER_SNAPSHOT_DT = 0.05  # s: the gas snapshots the profiles are averaged from (80 in the window)
 MULLER_LY = 0.160  # m: the bed's height (examples/muller_bed_u060.opts)
 MULLER_HEIGHTS = (0.0164, 0.0312)  # m: the seed's profiles (Fig. 2.6)
@@ -134,9 +136,12 @@ MULLER_REFERENCE = {"dt_factor": 0.05, "substeps": 1}  # the profiles' converged
 MULLER_BLOCK = 0.5  # s: block length of the profiles' standard errors (longer than the bubble period)
 
 
+@functools.lru_cache(maxsize=None)
 def muller_profiles(out, start=1.0):
     """The mirror-symmetric time-averaged voidage rows at MULLER_HEIGHTS from a run's snapshots at or after start,
-    concatenated, with each cell's standard error by block means (MULLER_BLOCK), and the snapshots used."""
+    concatenated, with each cell's standard error by block means (MULLER_BLOCK), and the snapshots used. Kept per
+    run: the reference's are compared with every point's (muller_profile_rows), and a run's snapshots do not change
+    once it has finished."""
     means, errs, count = [], [], 0
     for h in MULLER_HEIGHTS:
         times, rows = profile_asymmetry.read_rows(out, h, start, MULLER_LY)
@@ -173,7 +178,6 @@ def muller_profile_rows(rows, out_dir):
         out.append({"problem": "muller_profile", "knob": r["knob"], "id": "muller_profile" + r["id"][len("muller"):], "dt_factor": r["dt_factor"],
                     "substeps": r["substeps"], "status": "derived", "error": err, "uncertainty": unc, "cost": r["cost"]})
     return out
-MULLER_WINDOWS = [0.25, 0.5, 1.0, 2.0]
 
 
 def muller_window_rows(out, cost):

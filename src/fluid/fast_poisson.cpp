@@ -99,15 +99,13 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
   PetscCheck(FastPoissonPencilsFit(fp->n, P), comm, PETSC_ERR_SUP,
              "-fluid_p_pc_type fastpoisson: the pencils need at least as many cells as ranks along x and y (%d x %d cells, %d ranks)",
              (int)fp->n[0], (int)fp->n[1], (int)P);
-  fp->ty0              = SplitStart(fp->n[1], P, rank);
-  fp->ty1              = SplitStart(fp->n[1], P, rank + 1);
-  fp->sx0              = SplitStart(fp->n[0], P, rank);
-  fp->sx1              = SplitStart(fp->n[0], P, rank + 1);
-  const PetscInt mt[3] = {fp->n[0], fp->ty1 - fp->ty0, fp->n[2]}, ms[3] = {fp->sx1 - fp->sx0, fp->n[1], fp->n[2]};
-  for (int a = 0; a < 3; ++a) {
-    fp->mt[a] = mt[a];
-    fp->ms[a] = ms[a];
-  }
+  fp->ty0      = SplitStart(fp->n[1], P, rank);
+  fp->ty1      = SplitStart(fp->n[1], P, rank + 1);
+  fp->sx0      = SplitStart(fp->n[0], P, rank);
+  fp->sx1      = SplitStart(fp->n[0], P, rank + 1);
+  PetscInt *mt = fp->mt, *ms = fp->ms;
+  mt[0] = fp->n[0], mt[1] = fp->ty1 - fp->ty0, mt[2] = fp->n[2];
+  ms[0] = fp->sx1 - fp->sx0, ms[1] = fp->n[1], ms[2] = fp->n[2];
   const PetscInt nt = mt[0] * mt[1] * mt[2], ns = ms[0] * ms[1] * ms[2];
   fp->buf_t = fftw_alloc_real((size_t)PetscMax(nt, 1));
   fp->buf_s = P == 1 ? fp->buf_t : fftw_alloc_real((size_t)PetscMax(ns, 1));
