@@ -17,7 +17,11 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              at the seed's 16.4 and 31.2 mm (Fig. 2.6), time-averaged over the same window and made mirror-
              symmetric (the bed is; a 4 s average is not, docs/validation.md), against the converged reference
              run at t_cr/20 (MULLER_REFERENCE): the rms relative difference over the cells of both rows, with the
-             rms the two runs' standard errors (block means of 0.5 s) alone would give as its uncertainty;
+             rms the two runs' standard errors (block means of 0.5 s) alone would give as its uncertainty.
+             --muller-long DIR: a long run of the scene (scripts/validate.sh muller_bed_u060 1 -t_final T
+             -output_interval 0.05) is the profiles' reference instead, averaged over 1-T s with the standard errors
+             of 2 s blocks (a roll keeps its side for seconds, MULLER_LONG_BLOCK), and its series give the windows
+             (pressure drop, muller_window, and profiles, muller_profile_window: 1 to 1 + w s against 1-T s);
   jet2d      the 750 um jetted 2D pseudo-bed of the stability map (scripts/stability_map.py; its runs, read from its
              table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
              against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
@@ -134,63 +138,99 @@ MULLER_LY = 0.160  # m: the bed's height (examples/muller_bed_u060.opts)
 MULLER_HEIGHTS = (0.0164, 0.0312)  # m: the seed's profiles (Fig. 2.6)
 MULLER_REFERENCE = {"dt_factor": 0.05, "substeps": 1}  # the profiles' converged reference: t_cr/20, a gas step per DEM step
 MULLER_BLOCK = 0.5  # s: block length of the profiles' standard errors (longer than the bubble period)
+MULLER_LONG_BLOCK = 2.0  # s: the long reference's blocks (docs/validation.md: a roll keeps its side for seconds)
+MULLER_LONG_WINDOWS = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0]  # s: windows cut from the long reference, where it reaches 1 + w
 
 
 @functools.lru_cache(maxsize=None)
-def muller_profiles(out, start=1.0):
-    """The mirror-symmetric time-averaged voidage rows at MULLER_HEIGHTS from a run's snapshots at or after start,
-    concatenated, with each cell's standard error by block means (MULLER_BLOCK), and the snapshots used. Kept per
+def muller_profiles(out, start=1.0, end=float("inf"), block=MULLER_BLOCK):
+    """The mirror-symmetric time-averaged voidage rows at MULLER_HEIGHTS from a run's snapshots in [start, end],
+    concatenated, with each cell's standard error by block means (of block s), and the snapshots used. Kept per
     run: the reference's are compared with every point's (muller_profile_rows), and a run's snapshots do not change
     once it has finished."""
     means, errs, count = [], [], 0
     for h in MULLER_HEIGHTS:
         times, rows = profile_asymmetry.read_rows(out, h, start, MULLER_LY)
+        keep = times <= end + 1e-9
+        times, rows = times[keep], rows[keep]
         if len(times) < 2:
             return None, None, 0
         sym = 0.5 * (rows + rows[:, ::-1])
         means.append(sym.mean(axis=0))
-        errs.append([profile_asymmetry.block_error(sym[:, i], times, MULLER_BLOCK) for i in range(sym.shape[1])])
+        errs.append([profile_asymmetry.block_error(sym[:, i], times, block) for i in range(sym.shape[1])])
         count = len(times)
     return np.concatenate(means), np.concatenate(errs), count
 
 
-def profile_difference(out, ref_out):
-    """The rms relative difference of run out's profiles (muller_profiles) from ref_out's over all cells, and the rms
-    the two runs' standard errors alone give (what two runs of the same settings would differ by)."""
-    m, e, n = muller_profiles(out)
-    r, re, nr = muller_profiles(ref_out)
+def profile_difference(out, ref_out, ref_block=MULLER_BLOCK, end=float("inf")):
+    """The rms relative difference of run out's profiles (muller_profiles over 1 to end s) from ref_out's (over all
+    its snapshots from 1 s, standard errors from blocks of ref_block s) over all cells, and the rms the two runs'
+    standard errors alone give (what two runs of the same settings would differ by)."""
+    m, e, n = muller_profiles(out, 1.0, end)
+    r, re, nr = muller_profiles(ref_out, 1.0, float("inf"), ref_block)
     if not n or not nr or m.shape != r.shape:
         return float("nan"), float("nan")
     return float(np.sqrt(np.mean(((m - r) / r) ** 2))), float(np.sqrt(np.mean((e ** 2 + re ** 2) / r ** 2)))
 
 
-def muller_profile_rows(rows, out_dir):
-    """The muller_profile rows: every finished Muller point's profiles against the reference point's (none until the
-    reference has run)."""
+def muller_profile_rows(rows, out_dir, long_run=None):
+    """The muller_profile rows: every finished Muller point's profiles against the reference: the long run if given
+    (every point then compared with it), else the t_cr/20 point's (none until that has run)."""
     ref_id = point_id("muller", dict(PROBLEMS["muller"]["defaults"], **MULLER_REFERENCE))
-    if not any(r["id"] == ref_id and r["status"] == "ok" for r in rows):
+    if long_run:
+        ref, block = long_run, MULLER_LONG_BLOCK
+    elif any(r["id"] == ref_id and r["status"] == "ok" for r in rows):
+        ref, block = os.path.join(out_dir, ref_id), MULLER_BLOCK
+    else:
         return []
     out = []
     for r in rows:
-        if r["problem"] != "muller" or r["status"] != "ok" or r["id"] == ref_id:
+        if r["problem"] != "muller" or r["status"] != "ok" or (r["id"] == ref_id and not long_run):
             continue
-        err, unc = profile_difference(os.path.join(out_dir, r["id"]), os.path.join(out_dir, ref_id))
+        err, unc = profile_difference(os.path.join(out_dir, r["id"]), ref, block)
         out.append({"problem": "muller_profile", "knob": r["knob"], "id": "muller_profile" + r["id"][len("muller"):], "dt_factor": r["dt_factor"],
                     "substeps": r["substeps"], "status": "derived", "error": err, "uncertainty": unc, "cost": r["cost"]})
     return out
 
 
-def muller_window_rows(out, cost):
+def muller_window_rows(out, cost, windows=MULLER_WINDOWS):
     """Error of the probe pressure-drop average over 1 to 1 + w s against the full window's, with its batch-means
-    uncertainty, for each w in MULLER_WINDOWS; cost: the wall seconds per core of 1 + w s of bed."""
+    uncertainty, for each w in windows that the run covers; cost: the wall seconds per core of 1 + w s of bed."""
     mon = read_table(os.path.join(out, "monitor.csv"))
     dp = mon["p_y2_5mm_avg"] - mon["p_y157_5mm_avg"]
     full = dp[mon["time"] >= 1.0].mean()
     rows = []
-    for w in MULLER_WINDOWS:
+    for w in windows:
+        if mon["time"][-1] < 1.0 + w - 1e-9:
+            continue
         part = dp[(mon["time"] >= 1.0) & (mon["time"] <= 1.0 + w)]
         rows.append({"problem": "muller_window", "knob": "window", "id": "muller_window%g" % w, "window": w, "status": "derived",
                      "error": abs(part.mean() / full - 1), "uncertainty": batch_error(part) / abs(full), "cost": cost * (1.0 + w)})
+    return rows
+
+
+def long_run_cost(out):
+    """Wall seconds per simulated second per core of a finished (or stopped) run, from its summary.json."""
+    s = outputs.summary(out)
+    return s["wall_time_run"] * s["ranks"] / s["time"]
+
+
+def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
+    """The long run's profiles over 1 to 1 + w s against its whole window's (1 s to its end), for each w it covers
+    with room to spare (1 + w at most three quarters of the way): the error a window of w s leaves, and the rms of
+    the window's standard errors (0.5 s blocks) as its uncertainty; cost: wall seconds per core of 1 + w s of bed."""
+    r, _, nr = muller_profiles(long_run, 1.0, float("inf"), MULLER_LONG_BLOCK)
+    if not nr:
+        return []
+    times, _ = profile_asymmetry.read_rows(long_run, MULLER_HEIGHTS[0], 1.0, MULLER_LY)
+    rows = []
+    for w in windows:
+        if 1.0 + w > 1.0 + 0.75 * (times[-1] - 1.0):
+            continue
+        m, e, _ = muller_profiles(long_run, 1.0, 1.0 + w)
+        rows.append({"problem": "muller_profile_window", "knob": "window", "id": "muller_profile_window%g" % w, "window": w, "status": "derived",
+                     "error": float(np.sqrt(np.mean(((m - r) / r) ** 2))), "uncertainty": float(np.sqrt(np.mean((e / r) ** 2))),
+                     "cost": cost * (1.0 + w)})
     return rows
 
 
@@ -291,7 +331,7 @@ def plot(rows, path):
         ax.plot([r["cost"] for r in front], [max(r["error"], 1e-7) for r in front], "k--", lw=1, label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name == "muller_window" else
+        ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name in ("muller_window", "muller_profile_window") else
                       "cost: wall s per simulated s per core")
         unc = [r for r in rs if (r.get("uncertainty") or 0) > 0]
         if unc:
@@ -323,6 +363,8 @@ def main():
                     help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
     ap.add_argument("--ratio-csv", default=os.path.join(ROOT, "docs", "stability", "pgrid_ratio.csv"),
                     help="the stability map's particle-grid ratio table (its --maps ratio, with its own reference run): jet2d points of knob pgrid_ratio")
+    ap.add_argument("--muller-long", help="a long run of examples/muller_bed_u060.opts with gas snapshots every 0.05 s: the profiles' reference "
+                    "and the windows' series (see muller above)")
     args = ap.parse_args()
     problems = ["bounce"] if args.ci else args.problems.split(",")
     derived = "jet2d" in problems
@@ -359,10 +401,14 @@ def main():
     for pt, (row, reused) in study.run_all(pts, args.jobs, work):
         rows.append(row)
         study.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
-        if row["problem"] == "muller" and row["knob"] == "dt_factor" and pt[2] == PROBLEMS["muller"]["defaults"] and row["cost"] == row["cost"]:
+        if (row["problem"] == "muller" and row["knob"] == "dt_factor" and pt[2] == PROBLEMS["muller"]["defaults"] and row["cost"] == row["cost"]
+                and not args.muller_long):
             rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
     if "muller" in problems:
-        rows += muller_profile_rows(rows, args.out)
+        rows += muller_profile_rows(rows, args.out, args.muller_long)
+        if args.muller_long:
+            cost = long_run_cost(args.muller_long)
+            rows += muller_window_rows(args.muller_long, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(args.muller_long, cost)
     if derived:
         rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)
     if args.keep_csv:

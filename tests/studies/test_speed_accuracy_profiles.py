@@ -2,7 +2,9 @@
 the same lopsided profile with independent noise (rms 0.02 per cell and snapshot) differ by no more than three times
 the uncertainty it states, and that uncertainty is near the noise's own; the mirror image of the profile is the same
 answer (the bed is symmetric, so the profiles are compared mirror-symmetrised); a profile 5% wetter everywhere is 5%
-off, within the noise."""
+off, within the noise. With a long run as the reference (--muller-long), every point is compared with it, the
+t_cr/20 one included; and the windows cut from a long run whose profile swells and shrinks by 5% with a 4 s period
+leave about 3% after 1 s of averaging and next to nothing after two whole periods (8 s)."""
 import os
 import sys
 
@@ -18,11 +20,14 @@ NX, NY, NZ = 12, 32, 2
 BASE = 0.45 + 0.4 * np.linspace(0, 1, NX) ** 2  # lopsided: wet on the right
 
 
-def write_run(path, profile, seed):
+def write_run(path, profile, seed, count=101):
+    """Snapshots every 0.05 s (by default 0-5 s; the comparison takes 1-5 s); profile: cells' voidage, or a function
+    of time giving them."""
     os.makedirs(path, exist_ok=True)
     rng = np.random.default_rng(seed)
-    for k in range(101):  # t = 0 .. 5 s every 0.05 s; the comparison takes 1-5 s
-        eps = np.broadcast_to(profile, (NZ, NY, NX)) + 0.02 * rng.standard_normal((NZ, NY, NX))
+    for k in range(count):
+        prof = profile(0.05 * k) if callable(profile) else profile
+        eps = np.broadcast_to(prof, (NZ, NY, NX)) + 0.02 * rng.standard_normal((NZ, NY, NX))
         with h5py.File(os.path.join(path, "snapshot_%05d.h5" % k), "w") as f:
             f.attrs["time"] = 0.05 * k
             f["fluid/void_fraction"] = eps
@@ -57,3 +62,18 @@ got = sa.muller_profile_rows(rows, "prof_runs")
 t.check(len(got) == 1 and got[0]["id"] == "muller_profile_dt_factor0.1_substeps1" and abs(got[0]["error"] - err_w) < 1e-12 and got[0]["cost"] == 1.0,
         "one derived row, the t_cr/10 point against the t_cr/20 reference: %s" % got)
 t.check(sa.muller_profile_rows(rows[1:], "prof_runs") == [], "no rows before the reference has run")
+
+# a long reference, 0-13 s, whose profile swells and shrinks by 5% every 4 s: its 1-13 s mean is BASE
+write_run("prof_long", lambda time: BASE * (1 + 0.05 * np.sin(2 * np.pi * (time - 1.0) / 4.0)), 5, count=261)
+got = sa.muller_profile_rows(rows, "prof_runs", long_run="prof_long")
+t.check(sorted(r["id"] for r in got) == ["muller_profile_dt_factor0.05_substeps1", "muller_profile_dt_factor0.1_substeps1"],
+        "with a long reference both points are compared: %s" % [r["id"] for r in got])
+near = [r for r in got if r["dt_factor"] == 0.05][0]
+t.check(near["error"] < 0.03, "the t_cr/20 stand-in (BASE over 1-5 s, one whole period) is near the long mean: %.3f%%" % (100 * near["error"]))
+win = {r["window"]: r for r in sa.muller_profile_window_rows("prof_long", 1.0)}
+t.check(sorted(win) == [0.25, 0.5, 1.0, 2.0, 4.0, 8.0], "windows up to 8 s of the 12 s run: %s" % sorted(win))
+# over 1 to 2 s the swell averages (4 / 2 pi) x 0.05 = 3.2%
+t.check(0.02 < win[1.0]["error"] < 0.045, "1 s of averaging leaves %.2f%% (expected about 3.2%%)" % (100 * win[1.0]["error"]))
+t.check(win[8.0]["error"] < 0.005, "two whole periods leave %.3f%%" % (100 * win[8.0]["error"]))
+t.check(win[8.0]["cost"] == 9.0, "a window's cost is 1 s of settling plus the window: %g" % win[8.0]["cost"])
+print("ok")
