@@ -134,12 +134,19 @@ def batch_error(series, batches=10):
 MULLER_WINDOW = 4.0  # s: every Muller point averages over 1-5 s; the window rows are cut from the default point's run
 MULLER_WINDOWS = [0.25, 0.5, 1.0, 2.0]
 MULLER_SNAPSHOT_DT = 0.05  # s: the gas snapshots the profiles are averaged from (80 in the window)
-MULLER_LY = 0.160  # m: the bed's height (examples/muller_bed_u060.opts)
 MULLER_HEIGHTS = (0.0164, 0.0312)  # m: the seed's profiles (Fig. 2.6)
 MULLER_REFERENCE = {"dt_factor": 0.05, "substeps": 1}  # the profiles' converged reference: t_cr/20, a gas step per DEM step
 MULLER_BLOCK = 0.5  # s: block length of the profiles' standard errors (longer than the bubble period)
 MULLER_LONG_BLOCK = 2.0  # s: the long reference's blocks (docs/validation.md: a roll keeps its side for seconds)
 MULLER_LONG_WINDOWS = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0]  # s: windows cut from the long reference, where it reaches 1 + w
+
+
+def muller_height(out):
+    """The bed's height (-domain_ly) as the run was given it (its options file and command line)."""
+    ly = outputs.run_options(out, {"-domain_ly": None})["-domain_ly"]
+    if not ly:
+        raise SystemExit("speed_accuracy.py: no -domain_ly in the options recorded in %s (command.txt or command.json)" % out)
+    return ly
 
 
 @functools.lru_cache(maxsize=None)
@@ -150,7 +157,7 @@ def muller_profiles(out, start=1.0, end=float("inf"), block=MULLER_BLOCK):
     once it has finished."""
     means, errs, count = [], [], 0
     for h in MULLER_HEIGHTS:
-        times, rows = profile_asymmetry.read_rows(out, h, start, MULLER_LY)
+        times, rows = profile_asymmetry.read_rows(out, h, start, muller_height(out))
         keep = times <= end + 1e-9
         times, rows = times[keep], rows[keep]
         if len(times) < 2:
@@ -222,7 +229,7 @@ def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
     r, _, nr = muller_profiles(long_run, 1.0, float("inf"), MULLER_LONG_BLOCK)
     if not nr:
         return []
-    times, _ = profile_asymmetry.read_rows(long_run, MULLER_HEIGHTS[0], 1.0, MULLER_LY)
+    times, _ = profile_asymmetry.read_rows(long_run, MULLER_HEIGHTS[0], 1.0, muller_height(long_run))
     rows = []
     for w in windows:
         if 1.0 + w > 1.0 + 0.75 * (times[-1] - 1.0):

@@ -31,12 +31,16 @@ def read_h5(path):
 
 def run_options(run, defaults):
     """The numeric options named in defaults ({"-domain_ly": None, ...}) as a run was given them: from the options
-    file and then the command line recorded in its command.txt (later ones win); the defaults where neither has one."""
+    file and then the command line recorded in its command.txt (scripts/validate.sh) or command.json (the studies'
+    runs, fluidbed_tools/study.py; later ones win); the defaults where neither has one."""
     opts = dict(defaults)
     path = os.path.join(run, "command.txt")
-    if not os.path.exists(path):
+    if os.path.exists(path):
+        words = open(path).read().split()
+    elif os.path.exists(os.path.join(run, "command.json")):
+        words = [str(w) for w in json.load(open(os.path.join(run, "command.json")))["args"]]
+    else:
         return opts
-    words = open(path).read().split()
     pairs = []
     for i, w in enumerate(words):
         if w == "-options_file" and i + 1 < len(words) and os.path.exists(words[i + 1]):

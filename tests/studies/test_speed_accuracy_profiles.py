@@ -5,6 +5,7 @@ answer (the bed is symmetric, so the profiles are compared mirror-symmetrised); 
 off, within the noise. With a long run as the reference (--muller-long), every point is compared with it, the
 t_cr/20 one included; and the windows cut from a long run whose profile swells and shrinks by 5% with a 4 s period
 leave about 3% after 1 s of averaging and next to nothing after two whole periods (8 s)."""
+import json
 import os
 import sys
 
@@ -24,6 +25,8 @@ def write_run(path, profile, seed, count=101):
     """Snapshots every 0.05 s (by default 0-5 s; the comparison takes 1-5 s); profile: cells' voidage, or a function
     of time giving them."""
     os.makedirs(path, exist_ok=True)
+    with open(os.path.join(path, "command.json"), "w") as f:  # the bed's height, as a study's run records it
+        json.dump({"args": ["fluidbed", "-domain_ly", 0.16], "ranks": 1}, f)
     rng = np.random.default_rng(seed)
     for k in range(count):
         prof = profile(0.05 * k) if callable(profile) else profile
