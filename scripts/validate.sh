@@ -6,7 +6,9 @@
 #   scripts/validate.sh muller_bed_u060 2
 #   scripts/validate.sh tsuji_jet 1 -t_final 10
 # Output: $FLUIDBED_VALIDATION_DIR/<scene> (default bench/validation/<scene>). FLUIDBED_EXE runs another executable
-# (a copy kept aside while the sources change) and skips the build.
+# (a copy kept aside while the sources change) and skips the build. FLUIDBED_CONTINUE=1 continues the run in that
+# folder from its newest checkpoint (copied to restart.h5 first, since the run rewrites checkpoint.h5) with the same
+# command, appending to its command.txt and stdout.txt: a run longer than one sitting is the same command again.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 if [[ -z ${FLUIDBED_EXE:-} ]]; then
@@ -25,10 +27,22 @@ opts=$FLUIDBED_ROOT/examples/$scene.opts
 out=${FLUIDBED_VALIDATION_DIR:-$FLUIDBED_ROOT/bench/validation}/$scene
 mkdir -p "$out/plots"
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(env -u OMP_NUM_THREADS nproc) cores; $ranks rank(s)" | tee "$out/machine.txt"
+restart=()
+append=()
+if [[ ${FLUIDBED_CONTINUE:-0} == 1 ]]; then
+  [[ -f $out/checkpoint.h5 ]] || { echo "validate.sh: FLUIDBED_CONTINUE=1 but $out has no checkpoint.h5 to continue from" >&2; exit 2; }
+  cp "$out/checkpoint.h5" "$out/restart.h5"
+  restart=(-restart "$out/restart.h5")
+  append=(-a)
+fi
 cmd=(mpiexec --oversubscribe -n "$ranks" "$FLUIDBED_EXE" -options_file "$opts" -output_dir "$out" -progress_interval 300
-     -log_view ascii:"$out/log_view.txt" "$@")
-echo "${cmd[*]}" | tee "$out/command.txt"
-"${cmd[@]}" 2>&1 | tee "$out/stdout.txt"
+     -log_view ascii:"$out/log_view.txt" "$@" "${restart[@]}")
+echo "${cmd[*]}" | tee "${append[@]}" "$out/command.txt"
+set +e
+"${cmd[@]}" 2>&1 | tee "${append[@]}" "$out/stdout.txt"
+rc=${PIPESTATUS[0]}
+set -e
+[[ $rc == 0 ]] || { echo "validate.sh: fluidbed exited with status $rc (see $out/stdout.txt)" >&2; exit "$rc"; }
 
 py=/usr/bin/python3
 [[ -x $py ]] || py=python3
