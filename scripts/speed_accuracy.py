@@ -28,7 +28,8 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              relative errors; knobs the gas cell width with single or two grids, -dem_dt_factor, -couple_substeps, and
              the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv);
              uncertainty: the reference against its mirrored-start twin.
-Cost: wall seconds per simulated second per core (summary.json). Each problem's Pareto front (no other point both
+Cost: wall seconds per simulated second per core (summary.json), with cpu_share, the processor time the run had over its
+wall time x ranks (below 1 where it waited for its core on a loaded machine). Each problem's Pareto front (no other point both
 cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
 
 example:
@@ -217,9 +218,10 @@ def muller_window_rows(out, cost, windows=MULLER_WINDOWS):
 
 
 def long_run_cost(out):
-    """Wall seconds per simulated second per core of a finished (or stopped) run, from its summary.json."""
+    """Wall seconds per simulated second per core of a finished (or stopped) run, from its summary.json: of its last
+    part where it was continued from a checkpoint (the wall time is that part's, its steps those it took)."""
     s = outputs.summary(out)
-    return s["wall_time_run"] * s["ranks"] / s["time"]
+    return s["wall_time_run"] * s["ranks"] / (s["steps_this_run"] * s["dt"])
 
 
 def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
@@ -387,6 +389,8 @@ def main():
         if s and s["status"] != "stopped" and s["time"] > 0:
             row["error"], row["uncertainty"] = PROBLEMS[name]["error"](out, k)
             row["cost"] = s["wall_time_run"] * s["ranks"] / s["time"]
+            if "cpu_time_run_sum_over_ranks" in s:  # below 1: the run waited for its core (a loaded machine)
+                row["cpu_share"] = s["cpu_time_run_sum_over_ranks"] / (s["wall_time_run"] * s["ranks"])
             row["steps"] = s["steps"]
             row["overlap_max"] = s.get("guard_figures", {}).get("overlap_max", float("nan"))
         else:
@@ -428,7 +432,7 @@ def main():
     pareto(rows)
     rows.sort(key=lambda r: (r["problem"], r["knob"], r["id"]))
     keys = ["problem", "knob", "id", "cell", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",
-            "cost", "steps", "overlap_max", "pareto"]
+            "cost", "cpu_share", "steps", "overlap_max", "pareto"]
     os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
     with open(args.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")

@@ -65,6 +65,7 @@ struct Simulation {
   PetscReal     time_origin = 0.0;
   int           exit_status = 0; // the process exit status (status.hpp): a guard's when one stopped the run
   double        wall_setup = 0.0, wall_run = 0.0;
+  double        cpu_run = 0.0;  // this rank's processor time (user + system) over the run's steps, s
   UnusedOptions unused_options; // options without effect in the run, listed at its end
   SceneModel    model;          // what the scene models and why, and its warnings (printed at start-up, in summary.json)
 };

@@ -64,6 +64,11 @@ public:
     PetscCall(DecompositionAddSummary(sim, json));
     json->Number("wall_time_setup", sim->wall_setup);
     json->Number("wall_time_run", sim->wall_run);
+    // processor time summed over the ranks: against wall_time_run x ranks, the share of the run's cores it had (below
+    // 1 on a machine shared with other work; Open MPI's ranks poll while they wait, so waiting counts as processor)
+    double cpu_sum = 0.0;
+    PetscCallMPI(MPI_Allreduce(&sim->cpu_run, &cpu_sum, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+    json->Number("cpu_time_run_sum_over_ranks", cpu_sum);
     for (int p = 0; p < PHASE_COUNT; ++p) phases.Number(PhaseKeys[p], phase_max[p]);
     json->Object("wall_time_phase_max_over_ranks", phases);
     PetscFunctionReturn(0);
