@@ -217,13 +217,6 @@ def muller_window_rows(out, cost, windows=MULLER_WINDOWS):
     return rows
 
 
-def long_run_cost(out):
-    """Wall seconds per simulated second per core of a finished (or stopped) run, from its summary.json: of its last
-    part where it was continued from a checkpoint (the wall time is that part's, its steps those it took)."""
-    s = outputs.summary(out)
-    return s["wall_time_run"] * s["ranks"] / (s["steps_this_run"] * s["dt"])
-
-
 def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
     """The long run's profiles over 1 to 1 + w s against its whole window's (1 s to its end), for each w it covers
     with room to spare (1 + w at most three quarters of the way): the error a window of w s leaves, and the rms of
@@ -388,9 +381,7 @@ def main():
         row.update(k)
         if s and s["status"] != "stopped" and s["time"] > 0:
             row["error"], row["uncertainty"] = PROBLEMS[name]["error"](out, k)
-            row["cost"] = s["wall_time_run"] * s["ranks"] / s["time"]
-            if "cpu_time_run_sum_over_ranks" in s:  # below 1: the run waited for its core (a loaded machine)
-                row["cpu_share"] = s["cpu_time_run_sum_over_ranks"] / (s["wall_time_run"] * s["ranks"])
+            row["cost"], row["cpu_share"] = outputs.run_cost(s)
             row["steps"] = s["steps"]
             row["overlap_max"] = s.get("guard_figures", {}).get("overlap_max", float("nan"))
         else:
@@ -418,7 +409,7 @@ def main():
     if "muller" in problems:
         rows += muller_profile_rows(rows, args.out, args.muller_long)
         if args.muller_long:
-            cost = long_run_cost(args.muller_long)
+            cost = outputs.run_cost(outputs.summary(args.muller_long))[0]
             rows += muller_window_rows(args.muller_long, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(args.muller_long, cost)
     if derived:
         rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)

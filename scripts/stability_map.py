@@ -29,7 +29,7 @@ import sys
 
 import numpy as np
 
-from fluidbed_tools import run, study
+from fluidbed_tools import outputs, run, study
 
 ROOT = run.ROOT
 SCENE = os.path.join(ROOT, "examples", "stability", "jet750_2d.opts")
@@ -157,7 +157,9 @@ def measure(p, s, status, wall, outdir, args):
     if "fluid" in s:
         m["ksp_its"] = s["fluid"].get("pressure_iterations_per_solve")
     if s["time"] > 0:
-        m["cost_s_per_s_core"] = round(s["wall_time_run"] * s["ranks"] / s["time"], 1)
+        cost, share = outputs.run_cost(s)
+        m["cost_s_per_s_core"] = round(cost, 1)
+        m["cpu_share"] = round(share, 3) if share == share else ""
     av = s.get("averages")
     if av and av.get("samples", 0) > 0 and s["status"] != "stopped":
         depth = 0.00495 if p["map"] == "3d" else LZ
@@ -376,7 +378,7 @@ def main():
     keys = ["id", "map", "method", "cell_d", "dt_factor", "jet", "substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
             "status", "exit_status", "guard", "guard_time", "t_end", "dp_over_weight", "bed_height_mm", "jet_mm", "eps_rms", "floor_share_max",
             "eps_raw_min", "overlap_max", "displacement_max", "energy_growth_max", "courant_max", "ksp_its", "particles_out", "ranks", "wall_s",
-            "cost_s_per_s_core"]
+            "cost_s_per_s_core", "cpu_share"]
     os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
     with open(args.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")

@@ -19,6 +19,17 @@ def summary(outdir):
         return json.load(f)
 
 
+def run_cost(s):
+    """A run's cost from its summary.json s: wall seconds per simulated second per core, over the steps this run took
+    (a run continued from a checkpoint counts its last part only), and its processor share, the processor time over
+    wall time x ranks (below 1: it waited for its core on a loaded machine; nan where the run did not record it)."""
+    span = s["steps_this_run"] * s["dt"] if s.get("steps_this_run") and s.get("dt") else s["time"]
+    cost = s["wall_time_run"] * s["ranks"] / span if span > 0 else float("nan")
+    cpu = s.get("cpu_time_run_sum_over_ranks")
+    share = cpu / (s["wall_time_run"] * s["ranks"]) if cpu is not None and s["wall_time_run"] > 0 else float("nan")
+    return cost, share
+
+
 def read_h5(path):
     """Every dataset of an HDF5 file as a dict of arrays keyed by dataset path without the leading slash."""
     import h5py
