@@ -90,8 +90,9 @@ struct Guards {
   PetscBool                    courant_warned = PETSC_FALSE;
   PetscInt64                   lost_seen = 0, ksp_failures_seen = 0;
   std::vector<GuardTrip>       trips; // every trip reported, in order
-  PetscBool                    stop   = PETSC_FALSE;
-  unsigned                     warned = 0; // guards already reported under -guard_action warn (bit per kind)
+  PetscBool                    stop             = PETSC_FALSE;
+  int                          interrupt_signal = 0; // the signal that ended the run early (GuardsNoteInterrupt), 0 if none
+  unsigned                     warned           = 0; // guards already reported under -guard_action warn (bit per kind)
   GuardFigures                 fig;
 };
 
@@ -110,9 +111,12 @@ std::string GuardsCourantRemedy(const Guards *guards, PetscReal dt_max);
 // Whether a guard stopped the run, and which (the first trip that did).
 PetscBool        GuardsStopped(const Guards *guards);
 const GuardTrip *GuardsStopTrip(const Guards *guards);
-// The process exit status: EXIT_OK, or the stopping guard's (status.hpp).
+// A signal ended the run early (status.hpp, EXIT_INTERRUPTED): recorded for the exit status and summary.json.
+void GuardsNoteInterrupt(Guards *guards, int signal);
+// The process exit status: EXIT_OK, the stopping guard's, or EXIT_INTERRUPTED (status.hpp).
 int GuardsExitStatus(const Guards *guards);
-// summary.json: "status" ("ok", "warned", "stopped"), the stopping guard's figures, the limits and the run's maxima.
+// summary.json: "status" ("ok", "warned", "stopped", "interrupted"), the stopping guard's figures, the limits and the
+// run's maxima.
 PetscErrorCode GuardsAddSummary(const Guards *guards, JsonWriter *json);
 PetscErrorCode GuardsDestroy(Guards **guards);
 

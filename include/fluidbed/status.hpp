@@ -9,6 +9,10 @@ enum ExitStatus {
   EXIT_INTERNAL = 1, // an error of the code or a library (a traceback is printed)
   EXIT_INPUT    = 2, // bad options or input files: one line naming the option, the value and what is allowed
   EXIT_OUTPUT   = 3, // a write failed (full disk, unwritable path): what was complete before stays intact
+  // A signal (SIGTERM, SIGINT, or SIGUSR1, which mpiexec passes on to the ranks) ended the run early, at the next
+  // step all ranks agree on: the state reached was written as a checkpoint (with -checkpoint_interval set) and as the
+  // final files, so the run continues from there with -restart.
+  EXIT_INTERRUPTED = 4,
   // Run-time guards (src/guards): the state went wrong and the run stopped.
   EXIT_GUARD_NAN           = 10, // NaN or inf in a particle or gas field
   EXIT_GUARD_ESCAPE        = 11, // a particle left through a wall, or was lost in migration

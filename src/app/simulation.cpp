@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include <csignal>
+
 #include <sys/resource.h>
 
 namespace fluidbed {
@@ -159,6 +161,45 @@ double ProcessCpuSeconds()
   return (double)u.ru_utime.tv_sec + 1e-6 * (double)u.ru_utime.tv_usec + (double)u.ru_stime.tv_sec + 1e-6 * (double)u.ru_stime.tv_usec;
 }
 
+// The signal that asked the run to end early (SIGTERM, SIGINT, SIGUSR1), 0 until one arrives. The handler only sets
+// it; the time loop reads it and the ranks agree on the step to end at (InterruptAgreed).
+volatile std::sig_atomic_t interrupt_signal = 0;
+
+extern "C" void NoteInterrupt(int sig)
+{
+  interrupt_signal = sig;
+}
+
+// Installs NoteInterrupt for the run's steps, in place of PETSc's handlers (which end the process at once), and puts
+// the previous handlers back when it goes out of scope.
+class InterruptHandlers {
+public:
+  InterruptHandlers()
+  {
+    interrupt_signal = 0;
+    for (int i = 0; i < 3; ++i) previous_[i] = std::signal(kSignals[i], NoteInterrupt);
+  }
+  ~InterruptHandlers()
+  {
+    for (int i = 0; i < 3; ++i) std::signal(kSignals[i], previous_[i]);
+  }
+
+private:
+  static constexpr int kSignals[3] = {SIGTERM, SIGINT, SIGUSR1};
+  void (*previous_[3])(int);
+};
+
+// Every 32 steps the ranks agree whether any has received an interrupt signal (the largest signal number, 0 for
+// none), so that all end at the same step.
+PetscErrorCode InterruptAgreed(MPI_Comm comm, PetscInt64 steps_done, int *sig)
+{
+  PetscFunctionBeginUser;
+  if (steps_done % 32) PetscFunctionReturn(0);
+  int mine = (int)interrupt_signal;
+  PetscCallMPI(MPI_Allreduce(&mine, sig, 1, MPI_INT, MPI_MAX, comm));
+  PetscFunctionReturn(0);
+}
+
 // Length of the next gas step when the gas runs alone: -fluid_dt or its limits. The last step is not shortened to
 // end on t_final (the run ends with the first step that reaches it), so that a run restarted from a checkpoint takes
 // the same steps as the uninterrupted one.
@@ -210,7 +251,10 @@ PetscErrorCode SimulationRun(Simulation *sim)
   const double     cpu0          = ProcessCpuSeconds();
   double           last_progress = t0;
 
-  auto finished = [&]() {
+  InterruptHandlers handlers;
+  int               interrupted = 0; // the signal the ranks agreed to end on (InterruptAgreed)
+  auto              finished    = [&]() {
+    if (interrupted) return true;
     if (dem) return sim->step >= step_stop;
     return sim->time >= sim->run.t_final * (1 - 1e-12) || (sim->run.max_steps >= 0 && sim->step - step0 >= sim->run.max_steps);
   };
@@ -249,11 +293,13 @@ PetscErrorCode SimulationRun(Simulation *sim)
       PetscCall(DemStep(dem));
       sim->step++;
       sim->time = sim->time_origin + (PetscReal)(sim->step - sim->step_origin) * dt;
+      PetscCall(InterruptAgreed(sim->comm, sim->step - step0, &interrupted));
       PetscCall(GuardsCheckParticles(sim->guards, sim->step, sim->time, finished() ? PETSC_TRUE : PETSC_FALSE));
       if (GuardsStopped(sim->guards)) break;
     } else {
       sim->step++;
       sim->time += dt;
+      PetscCall(InterruptAgreed(sim->comm, sim->step - step0, &interrupted));
     }
 
     PetscCall(PhaseBegin(&sim->log, PHASE_OUTPUT));
@@ -280,9 +326,10 @@ PetscErrorCode SimulationRun(Simulation *sim)
       }
     }
   }
-  sim->wall_run    = MPI_Wtime() - t0;
-  sim->cpu_run     = ProcessCpuSeconds() - cpu0;
-  sim->steps_run   = sim->step - step0;
+  sim->wall_run  = MPI_Wtime() - t0;
+  sim->cpu_run   = ProcessCpuSeconds() - cpu0;
+  sim->steps_run = sim->step - step0;
+  if (interrupted) GuardsNoteInterrupt(sim->guards, interrupted);
   sim->exit_status = GuardsExitStatus(sim->guards);
 
   PetscCall(UnusedOptionsCollect(sim, &sim->unused_options)); // every option has been read by now
@@ -325,6 +372,12 @@ PetscErrorCode SimulationRun(Simulation *sim)
   if (!sim->guards->trips.empty())
     PetscCall(PetscPrintf(sim->comm, "Guards tripped under -guard_action warn: %d (summary.json \"guard_trips\")\n",
                           (int)sim->guards->trips.size()));
+  if (interrupted)
+    PetscCall(PetscPrintf(sim->comm, "Interrupted by signal %d at step %lld, t = %.6g s, before -t_final %.6g s (exit status %d): %s\n",
+                          interrupted, (long long)sim->step, (double)sim->time, (double)sim->run.t_final, sim->exit_status,
+                          sim->output.checkpoint_interval > 0
+                            ? "the state reached is the checkpoint; continue from it with -restart"
+                            : "no checkpoint (-checkpoint_interval 0): the final files hold the state reached"));
   PetscCall(UnusedOptionsPrint(sim->comm, sim->unused_options));
   PetscFunctionReturn(0);
 }

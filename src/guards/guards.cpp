@@ -503,10 +503,15 @@ const GuardTrip *GuardsStopTrip(const Guards *g)
   return GuardsStopped(g) ? &g->trips.front() : nullptr;
 }
 
+void GuardsNoteInterrupt(Guards *g, int signal)
+{
+  g->interrupt_signal = signal;
+}
+
 int GuardsExitStatus(const Guards *g)
 {
   const GuardTrip *t = GuardsStopTrip(g);
-  return t ? EXIT_GUARD_NAN + (int)t->kind : EXIT_OK;
+  return t ? EXIT_GUARD_NAN + (int)t->kind : (g->interrupt_signal ? EXIT_INTERRUPTED : EXIT_OK);
 }
 
 PetscErrorCode GuardsAddSummary(const Guards *g, JsonWriter *json)
@@ -515,8 +520,9 @@ PetscErrorCode GuardsAddSummary(const Guards *g, JsonWriter *json)
   const GuardTrip *t = GuardsStopTrip(g);
 
   PetscFunctionBeginUser;
-  json->String("status", t ? "stopped" : (g->trips.empty() ? "ok" : "warned"));
+  json->String("status", t ? "stopped" : (g->interrupt_signal ? "interrupted" : (g->trips.empty() ? "ok" : "warned")));
   json->Integer("exit_code", GuardsExitStatus(g));
+  if (!t && g->interrupt_signal) json->Integer("interrupt_signal", g->interrupt_signal);
   if (t) {
     json->String("guard", GuardNames[t->kind]);
     json->Integer("guard_step", (long long)t->step);
