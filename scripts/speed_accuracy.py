@@ -409,7 +409,14 @@ def main():
     if "muller" in problems:
         rows += muller_profile_rows(rows, args.out, args.muller_long)
         if args.muller_long:
-            cost = outputs.run_cost(outputs.summary(args.muller_long))[0]
+            # a run still going (or stopped without its summary) is costed as the default point: the same settings
+            default = [r for r in rows if r["problem"] == "muller" and r["id"] == point_id("muller", PROBLEMS["muller"]["defaults"])]
+            if os.path.exists(os.path.join(args.muller_long, "summary.json")):
+                cost = outputs.run_cost(outputs.summary(args.muller_long))[0]
+            elif default:
+                cost = default[0]["cost"]
+            else:
+                raise SystemExit("speed_accuracy.py: %s has no summary.json, and the default Muller point has not run: no cost for its windows" % args.muller_long)
             rows += muller_window_rows(args.muller_long, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(args.muller_long, cost)
     if derived:
         rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)
