@@ -29,7 +29,7 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv);
              uncertainty: the reference against its mirrored-start twin.
 Cost: wall seconds per simulated second per core (summary.json), with cpu_share, the processor time the run had over its
-wall time x ranks (below 1 where it waited for its core on a loaded machine). Each problem's Pareto front (no other point both
+wall time x ranks (below 1 where it waited for its core on a loaded machine, or for its writes). Each problem's Pareto front (no other point both
 cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
 
 example:

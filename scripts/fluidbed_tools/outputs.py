@@ -22,7 +22,7 @@ def summary(outdir):
 def run_cost(s):
     """A run's cost from its summary.json s: wall seconds per simulated second per core, over the steps this run took
     (a run continued from a checkpoint counts its last part only), and its processor share, the processor time over
-    wall time x ranks (below 1: it waited for its core on a loaded machine; nan where the run did not record it)."""
+    wall time x ranks (below 1: it waited for its core on a loaded machine, or for its writes; nan where the run did not record it)."""
     span = s["steps_this_run"] * s["dt"] if s.get("steps_this_run") and s.get("dt") else s["time"]
     cost = s["wall_time_run"] * s["ranks"] / span if span > 0 else float("nan")
     cpu = s.get("cpu_time_run_sum_over_ranks")
