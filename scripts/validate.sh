@@ -35,7 +35,9 @@ if [[ ${FLUIDBED_CONTINUE:-0} == 1 ]]; then
   restart=(-restart "$out/restart.h5")
   append=(-a)
 fi
-cmd=(mpiexec --oversubscribe -n "$ranks" "$FLUIDBED_EXE" -options_file "$opts" -output_dir "$out" -progress_interval 300
+# --bind-to none: Open MPI binds each job's rank 0 to core 0, so two long runs started side by side would share one
+# core while the other idles (each at half speed); unbound, the kernel gives each its own core.
+cmd=(mpiexec --oversubscribe --bind-to none -n "$ranks" "$FLUIDBED_EXE" -options_file "$opts" -output_dir "$out" -progress_interval 300
      -log_view ascii:"$out/log_view.txt" "$@" "${restart[@]}")
 echo "${cmd[*]}" | tee "${append[@]}" "$out/command.txt"
 set +e

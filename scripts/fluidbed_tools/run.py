@@ -37,8 +37,9 @@ def example(path):
 
 
 def launcher(ranks, mpiexec=MPIEXEC):
-    """The mpiexec prefix that starts a command on `ranks` ranks (as root, oversubscribed)."""
-    return [mpiexec, "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)]
+    """The mpiexec prefix that starts a command on `ranks` ranks (as root, oversubscribed, unbound: Open MPI binds
+    every job's ranks to the first cores, so jobs run side by side (a study's --jobs, ctest -j) would share them)."""
+    return [mpiexec, "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-n", str(ranks)]
 
 
 def command(options, ranks=1, exe=EXE):
