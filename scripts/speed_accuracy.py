@@ -151,30 +151,36 @@ def muller_height(out):
 
 
 @functools.lru_cache(maxsize=None)
+def muller_rows(out, height):
+    """Times and mirror-symmetric voidage rows at height of every snapshot of a run, read once per run and height:
+    the reference's rows serve every point, and a long run's every window (a run's snapshots do not change once it
+    has finished)."""
+    times, rows = profile_asymmetry.read_rows(out, height, 0.0, muller_height(out))
+    return times, 0.5 * (rows + rows[:, ::-1])
+
+
+@functools.lru_cache(maxsize=None)
 def muller_profiles(out, start=1.0, end=float("inf"), block=MULLER_BLOCK):
     """The mirror-symmetric time-averaged voidage rows at MULLER_HEIGHTS from a run's snapshots in [start, end],
-    concatenated, with each cell's standard error by block means (of block s), and the snapshots used. Kept per
-    run: the reference's are compared with every point's (muller_profile_rows), and a run's snapshots do not change
-    once it has finished."""
+    concatenated, with each cell's standard error by block means (of block s), and the snapshots used."""
     means, errs, count = [], [], 0
     for h in MULLER_HEIGHTS:
-        times, rows = profile_asymmetry.read_rows(out, h, start, muller_height(out))
-        keep = times <= end + 1e-9
-        times, rows = times[keep], rows[keep]
+        times, sym = muller_rows(out, h)
+        keep = (times >= start - 1e-9) & (times <= end + 1e-9)
+        times, sym = times[keep], sym[keep]
         if len(times) < 2:
             return None, None, 0
-        sym = 0.5 * (rows + rows[:, ::-1])
         means.append(sym.mean(axis=0))
         errs.append([profile_asymmetry.block_error(sym[:, i], times, block) for i in range(sym.shape[1])])
         count = len(times)
     return np.concatenate(means), np.concatenate(errs), count
 
 
-def profile_difference(out, ref_out, ref_block=MULLER_BLOCK, end=float("inf")):
-    """The rms relative difference of run out's profiles (muller_profiles over 1 to end s) from ref_out's (over all
-    its snapshots from 1 s, standard errors from blocks of ref_block s) over all cells, and the rms the two runs'
+def profile_difference(out, ref_out, ref_block=MULLER_BLOCK):
+    """The rms relative difference of run out's profiles (muller_profiles from 1 s) from ref_out's (over all its
+    snapshots from 1 s, standard errors from blocks of ref_block s) over all cells, and the rms the two runs'
     standard errors alone give (what two runs of the same settings would differ by)."""
-    m, e, n = muller_profiles(out, 1.0, end)
+    m, e, n = muller_profiles(out)
     r, re, nr = muller_profiles(ref_out, 1.0, float("inf"), ref_block)
     if not n or not nr or m.shape != r.shape:
         return float("nan"), float("nan")
@@ -224,7 +230,7 @@ def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
     r, _, nr = muller_profiles(long_run, 1.0, float("inf"), MULLER_LONG_BLOCK)
     if not nr:
         return []
-    times, _ = profile_asymmetry.read_rows(long_run, MULLER_HEIGHTS[0], 1.0, muller_height(long_run))
+    times = muller_rows(long_run, MULLER_HEIGHTS[0])[0]
     rows = []
     for w in windows:
         if 1.0 + w > 1.0 + 0.75 * (times[-1] - 1.0):
@@ -410,11 +416,12 @@ def main():
         rows += muller_profile_rows(rows, args.out, args.muller_long)
         if args.muller_long:
             # a run still going (or stopped without its summary) is costed as the default point: the same settings
-            default = [r for r in rows if r["problem"] == "muller" and r["id"] == point_id("muller", PROBLEMS["muller"]["defaults"])]
+            default_id = point_id("muller", PROBLEMS["muller"]["defaults"])
+            default = [r["cost"] for r in rows if r["id"] == default_id]
             if os.path.exists(os.path.join(args.muller_long, "summary.json")):
                 cost = outputs.run_cost(outputs.summary(args.muller_long))[0]
             elif default:
-                cost = default[0]["cost"]
+                cost = default[0]
             else:
                 raise SystemExit("speed_accuracy.py: %s has no summary.json, and the default Muller point has not run: no cost for its windows" % args.muller_long)
             rows += muller_window_rows(args.muller_long, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(args.muller_long, cost)
