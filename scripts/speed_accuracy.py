@@ -18,10 +18,13 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              symmetric (the bed is; a 4 s average is not, docs/validation.md), against the converged reference
              run at t_cr/20 (MULLER_REFERENCE): the rms relative difference over the cells of both rows, with the
              rms the two runs' standard errors (block means of 0.5 s) alone would give as its uncertainty.
-             --muller-long DIR: a long run of the scene (scripts/validate.sh muller_bed_u060 1 -t_final T
-             -output_interval 0.05) is the profiles' reference instead, averaged over 1-T s with the standard errors
-             of 2 s blocks (a roll keeps its side for seconds, MULLER_LONG_BLOCK), and its series give the windows
-             (pressure drop, muller_window, and profiles, muller_profile_window: 1 to 1 + w s against 1-T s);
+             --muller-long DIR[,DIR...]: long runs of the scene (scripts/validate.sh muller_bed_u060 1 -t_final T
+             -output_interval 0.05, each with its own -insert_seed) are the profiles' reference instead: their mean,
+             each averaged over 1-T s with the standard errors of 2 s blocks (a roll keeps its side for seconds,
+             MULLER_LONG_BLOCK), the uncertainty the larger of those and the runs' spread; the first run's series
+             give the windows (pressure drop, muller_window, and profiles, muller_profile_window: 1 to 1 + w s
+             against 1-T s), and each run is compared with the others' mean (muller_profile_runs: how far one run
+             of that length is from the answer);
   jet2d      the 750 um jetted 2D pseudo-bed of the stability map (scripts/stability_map.py; its runs, read from its
              table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
              against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
@@ -176,23 +179,46 @@ def muller_profiles(out, start=1.0, end=float("inf"), block=MULLER_BLOCK):
     return np.concatenate(means), np.concatenate(errs), count
 
 
-def profile_difference(out, ref_out, ref_block=MULLER_BLOCK):
-    """The rms relative difference of run out's profiles (muller_profiles from 1 s) from ref_out's (over all its
-    snapshots from 1 s, standard errors from blocks of ref_block s) over all cells, and the rms the two runs'
-    standard errors alone give (what two runs of the same settings would differ by)."""
-    m, e, n = muller_profiles(out)
-    r, re, nr = muller_profiles(ref_out, 1.0, float("inf"), ref_block)
-    if not n or not nr or m.shape != r.shape:
+def reference_profiles(refs, block):
+    """The profiles' reference from one run or an ensemble of runs (refs: a tuple of run directories), each averaged
+    over all its snapshots from 1 s: the mean of the runs' mirror-symmetric rows and each cell's standard error. With
+    one run that is its block-means error (blocks of block s); with several, the larger of the runs' block errors
+    combined and their spread (standard deviation over sqrt K): a roll that keeps its side for a whole run makes two
+    runs differ by more than their blocks say (docs/validation.md)."""
+    means, errs = [], []
+    for ref in refs:
+        m, e, n = muller_profiles(ref, 1.0, float("inf"), block)
+        if not n:
+            return None, None
+        means.append(m)
+        errs.append(e)
+    means, errs = np.array(means), np.array(errs)
+    within = np.sqrt((errs ** 2).sum(axis=0)) / len(refs)
+    if len(refs) == 1:
+        return means[0], within
+    return means.mean(axis=0), np.maximum(within, means.std(axis=0, ddof=1) / math.sqrt(len(refs)))
+
+
+def profile_difference(out, ref_out, ref_block=MULLER_BLOCK, block=MULLER_BLOCK):
+    """The rms relative difference of run out's profiles (over its snapshots from 1 s, standard errors from blocks of
+    block s) from the reference's (reference_profiles of ref_out, one run directory or a sequence of them, over all
+    their snapshots from 1 s, blocks of ref_block s) over all cells, and the rms the standard errors of both sides
+    alone give (what two runs of the same settings would differ by)."""
+    refs = (ref_out,) if isinstance(ref_out, str) else tuple(ref_out)
+    m, e = reference_profiles((out,), block)
+    r, re = reference_profiles(refs, ref_block)
+    if m is None or r is None or m.shape != r.shape:
         return float("nan"), float("nan")
     return float(np.sqrt(np.mean(((m - r) / r) ** 2))), float(np.sqrt(np.mean((e ** 2 + re ** 2) / r ** 2)))
 
 
 def muller_profile_rows(rows, out_dir, long_run=None):
-    """The muller_profile rows: every finished Muller point's profiles against the reference: the long run if given
-    (every point then compared with it), else the t_cr/20 point's (none until that has run)."""
+    """The muller_profile rows: every finished Muller point's profiles against the reference: the long run, or the
+    ensemble of long runs (a sequence of directories), if given (every point then compared with it), else the t_cr/20
+    point's (none until that has run)."""
     ref_id = point_id("muller", dict(PROBLEMS["muller"]["defaults"], **MULLER_REFERENCE))
     if long_run:
-        ref, block = long_run, MULLER_LONG_BLOCK
+        ref, block = (long_run,) if isinstance(long_run, str) else tuple(long_run), MULLER_LONG_BLOCK
     elif any(r["id"] == ref_id and r["status"] == "ok" for r in rows):
         ref, block = os.path.join(out_dir, ref_id), MULLER_BLOCK
     else:
@@ -239,6 +265,21 @@ def muller_profile_window_rows(long_run, cost, windows=MULLER_LONG_WINDOWS):
         rows.append({"problem": "muller_profile_window", "knob": "window", "id": "muller_profile_window%g" % w, "window": w, "status": "derived",
                      "error": float(np.sqrt(np.mean(((m - r) / r) ** 2))), "uncertainty": float(np.sqrt(np.mean((e / r) ** 2))),
                      "cost": cost * (1.0 + w)})
+    return rows
+
+
+def muller_long_rows(long_runs, cost):
+    """Each long run's profiles (1 s to its end) against the mean of the other long runs' (leave one out): how far one
+    run of that length is from an independent estimate of the answer, with both sides' standard errors (2 s blocks) as
+    the uncertainty; cost: wall seconds per core of the run's length of bed."""
+    rows = []
+    for k, run_dir in enumerate(long_runs):
+        others = tuple(long_runs[:k] + long_runs[k + 1:])
+        err, unc = profile_difference(run_dir, others, MULLER_LONG_BLOCK, MULLER_LONG_BLOCK)
+        end = muller_rows(run_dir, MULLER_HEIGHTS[0])[0][-1]
+        seed = outputs.run_options(run_dir, {"-insert_seed": 1})["-insert_seed"]  # what tells the runs apart
+        rows.append({"problem": "muller_profile_runs", "knob": "window", "id": "muller_profile_run_seed%g" % seed,
+                     "window": float(end - 1.0), "status": "derived", "error": err, "uncertainty": unc, "cost": cost * float(end)})
     return rows
 
 
@@ -371,8 +412,8 @@ def main():
                     help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
     ap.add_argument("--ratio-csv", default=os.path.join(ROOT, "docs", "stability", "pgrid_ratio.csv"),
                     help="the stability map's particle-grid ratio table (its --maps ratio, with its own reference run): jet2d points of knob pgrid_ratio")
-    ap.add_argument("--muller-long", help="a long run of examples/muller_bed_u060.opts with gas snapshots every 0.05 s: the profiles' reference "
-                    "and the windows' series (see muller above)")
+    ap.add_argument("--muller-long", help="long runs of examples/muller_bed_u060.opts with gas snapshots every 0.05 s, comma-separated: the "
+                    "profiles' reference (their mean; see muller above), the first one's series the windows'")
     args = ap.parse_args()
     problems = ["bounce"] if args.ci else args.problems.split(",")
     derived = "jet2d" in problems
@@ -413,18 +454,23 @@ def main():
                 and not args.muller_long):
             rows += muller_window_rows(os.path.join(args.out, row["id"]), row["cost"])
     if "muller" in problems:
-        rows += muller_profile_rows(rows, args.out, args.muller_long)
-        if args.muller_long:
-            # a run still going (or stopped without its summary) is costed as the default point: the same settings
+        long_runs = [x for x in (args.muller_long or "").split(",") if x]
+        rows += muller_profile_rows(rows, args.out, long_runs or None)
+        if long_runs:
+            # the windows are cut from the first long run; a run still going (or stopped without its summary) is costed
+            # as the default point: the same settings
+            first = long_runs[0]
             default_id = point_id("muller", PROBLEMS["muller"]["defaults"])
             default = [r["cost"] for r in rows if r["id"] == default_id]
-            if os.path.exists(os.path.join(args.muller_long, "summary.json")):
-                cost = outputs.run_cost(outputs.summary(args.muller_long))[0]
+            if os.path.exists(os.path.join(first, "summary.json")):
+                cost = outputs.run_cost(outputs.summary(first))[0]
             elif default:
                 cost = default[0]
             else:
-                raise SystemExit("speed_accuracy.py: %s has no summary.json, and the default Muller point has not run: no cost for its windows" % args.muller_long)
-            rows += muller_window_rows(args.muller_long, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(args.muller_long, cost)
+                raise SystemExit("speed_accuracy.py: %s has no summary.json, and the default Muller point has not run: no cost for its windows" % first)
+            rows += muller_window_rows(first, cost, MULLER_LONG_WINDOWS) + muller_profile_window_rows(first, cost)
+            if len(long_runs) > 1:
+                rows += muller_long_rows(long_runs, cost)
     if derived:
         rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)
     if args.keep_csv:

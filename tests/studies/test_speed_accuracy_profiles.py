@@ -4,7 +4,9 @@ the uncertainty it states, and that uncertainty is near the noise's own; the mir
 answer (the bed is symmetric, so the profiles are compared mirror-symmetrised); a profile 5% wetter everywhere is 5%
 off, within the noise. With a long run as the reference (--muller-long), every point is compared with it, the
 t_cr/20 one included; and the windows cut from a long run whose profile swells and shrinks by 5% with a 4 s period
-leave about 3% after 1 s of averaging and next to nothing after two whole periods (8 s)."""
+leave about 3% after 1 s of averaging and next to nothing after two whole periods (8 s). An ensemble of long runs
+(--muller-long A,B) is their mean, with the runs' spread as its uncertainty where it exceeds their block errors, and each
+run is compared with the others (leave one out)."""
 import json
 import os
 import sys
@@ -21,12 +23,12 @@ NX, NY, NZ = 12, 32, 2
 BASE = 0.45 + 0.4 * np.linspace(0, 1, NX) ** 2  # lopsided: wet on the right
 
 
-def write_run(path, profile, seed, count=101):
+def write_run(path, profile, seed, count=101, args=()):
     """Snapshots every 0.05 s (by default 0-5 s; the comparison takes 1-5 s); profile: cells' voidage, or a function
-    of time giving them."""
+    of time giving them; args: more options recorded as the run's."""
     os.makedirs(path, exist_ok=True)
     with open(os.path.join(path, "command.json"), "w") as f:  # the bed's height, as a study's run records it
-        json.dump({"args": ["fluidbed", "-domain_ly", 0.16], "ranks": 1}, f)
+        json.dump({"args": ["fluidbed", "-domain_ly", 0.16] + list(args), "ranks": 1}, f)
     rng = np.random.default_rng(seed)
     for k in range(count):
         prof = profile(0.05 * k) if callable(profile) else profile
@@ -79,4 +81,28 @@ t.check(sorted(win) == [0.25, 0.5, 1.0, 2.0, 4.0, 8.0], "windows up to 8 s of th
 t.check(0.02 < win[1.0]["error"] < 0.045, "1 s of averaging leaves %.2f%% (expected about 3.2%%)" % (100 * win[1.0]["error"]))
 t.check(win[8.0]["error"] < 0.005, "two whole periods leave %.3f%%" % (100 * win[8.0]["error"]))
 t.check(win[8.0]["cost"] == 9.0, "a window's cost is 1 s of settling plus the window: %g" % win[8.0]["cost"])
+
+# an ensemble of two long runs (--muller-long A,B): 2% wetter and, mirrored, 2% drier than BASE; made mirror-symmetric
+# their mean is SYM, with an uncertainty from their spread (2% of SYM), far above their block errors
+SYM = 0.5 * (BASE + BASE[::-1])
+write_run("prof_long_a", 1.02 * BASE, 6, count=261, args=["-insert_seed", 1])
+write_run("prof_long_b", 0.98 * BASE[::-1], 7, count=261, args=["-insert_seed", 3])
+ens, ens_err = sa.reference_profiles(("prof_long_a", "prof_long_b"), sa.MULLER_LONG_BLOCK)
+sym2 = np.concatenate([SYM, SYM])
+t.check(np.sqrt(np.mean((ens / sym2 - 1) ** 2)) < 0.002, "the ensemble's mean is the symmetric profile: %.4f%% rms" % (100 * np.sqrt(np.mean((ens / sym2 - 1) ** 2))))
+t.check(np.all((0.015 < ens_err / sym2) & (ens_err / sym2 < 0.025)), "its uncertainty is the runs' spread, 2%%: %.2f-%.2f%%" % (
+    100 * (ens_err / sym2).min(), 100 * (ens_err / sym2).max()))
+single, single_err = sa.reference_profiles(("prof_long_a",), sa.MULLER_LONG_BLOCK)
+# six 2 s blocks of 40 snapshots, noise 0.01 per symmetrised snapshot: about 0.15% of SYM (estimated with 5 degrees of freedom)
+single_rms = np.sqrt(np.mean((single_err / sym2) ** 2))
+t.check(single_rms < 0.005, "one run alone states only its block error: %.3f%% rms" % (100 * single_rms))
+err_e, unc_e = sa.profile_difference("prof_ref", ("prof_long_a", "prof_long_b"), sa.MULLER_LONG_BLOCK)
+t.check(err_e < 3 * unc_e and 0.015 < unc_e < 0.025, "a point of BASE against the ensemble: %.3f%% apart, uncertainty %.3f%%" % (100 * err_e, 100 * unc_e))
+pair = {r["id"]: r for r in sa.muller_long_rows(["prof_long_a", "prof_long_b"], 1.0)}
+t.check(sorted(pair) == ["muller_profile_run_seed1", "muller_profile_run_seed3"], "one row per long run, named by its seed: %s" % sorted(pair))
+# each against the other: 1.02 / 0.98 - 1 = 4.1%, 0.98 / 1.02 - 1 = -3.9%
+t.check(abs(pair["muller_profile_run_seed1"]["error"] - 0.0408) < 0.003 and abs(pair["muller_profile_run_seed3"]["error"] - 0.0392) < 0.003,
+        "each run against the other: %.2f%% and %.2f%%" % (100 * pair["muller_profile_run_seed1"]["error"], 100 * pair["muller_profile_run_seed3"]["error"]))
+t.check(pair["muller_profile_run_seed1"]["window"] == 12.0 and pair["muller_profile_run_seed1"]["cost"] == 13.0,
+        "the window is the run's 1-13 s, its cost 13 s of bed: %s" % pair["muller_profile_run_seed1"])
 print("ok")
