@@ -8,10 +8,11 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
   head_on    two spheres colliding at 1 m/s, e = 0.9: the measured restitution against e; knob -dem_dt_factor;
   packed     the small bed (examples/coupling/small_bed.opts) below U_mf at 0.15 m/s: the pressure drop against Ergun
              for the measured voidage, layer by layer; knobs -dem_dt_factor, -couple_substeps, -fluid_p_ksp_rtol,
-             -fluid_pc_reuse;
+             -fluid_pc_reuse, -dem_kn (the default point is the seed's 800 N/m; the softer springs at the same fraction of
+             their own t_cr);
   muller     the Muller bubbling bed at 0.6 m/s (examples/muller_bed_u060.opts, from its own settled start): the
-             time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor and
-             -couple_substeps (hours per point). The averaging window is not run again: the windows 0.25-4 s are cut
+             time-averaged pressure drop against the bed weight per area, over a window; knobs -dem_dt_factor,
+             -couple_substeps and -dem_kn (as packed; hours per point). The averaging window is not run again: the windows 0.25-4 s are cut
              from the longest run's pressure series and compared with its full average (their own panel, --png).
              Its second answer, muller_profile (derived rows, their own panel): the voidage profiles across the bed
              at the seed's 16.4 and 31.2 mm (Fig. 2.6), time-averaged over the same window and made mirror-
@@ -29,7 +30,8 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              table --stability-csv, are not run again here): the time-averaged pressure drop and expanded bed height
              against the map's reference (two grids on the seed's 0.43 d cells at t_cr/20), the larger of the two
              relative errors; knobs the gas cell width with single or two grids, -dem_dt_factor, -couple_substeps, and
-             the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv);
+             the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv),
+             and the spring stiffness -dem_kn on the two grids' 3 d cells (the map's kn table --kn-csv);
              uncertainty: the reference against its mirrored-start twin.
 Cost: wall seconds per simulated second per core (summary.json), with cpu_share, the processor time the run had over its
 wall time x ranks (below 1 where it waited for its core on a loaded machine, or for its writes). Each problem's Pareto front (no other point both
@@ -93,7 +95,13 @@ def head_on_error(out, k):
 
 def packed_options(k):
     return ["-options_file", os.path.join(EX, "coupling", "small_bed.opts"), "-t_final", 0.25, "-dem_dt_factor", k["dt_factor"],
-            "-couple_substeps", k["substeps"], "-fluid_p_ksp_rtol", k["rtol"], "-fluid_pc_reuse", k["pc_reuse"], "-output_particles", 1]
+            "-couple_substeps", k["substeps"], "-fluid_p_ksp_rtol", k["rtol"], "-fluid_pc_reuse", k["pc_reuse"], "-output_particles", 1] + kn_options(k)
+
+
+def kn_options(k):
+    """-dem_kn for the stiffness knob's points (walls follow it, the step follows its t_cr); none at the seed's 800 N/m,
+    so that the points run before the knob existed keep their commands and are not run again."""
+    return ["-dem_kn", k["kn"]] if "kn" in k else []
 
 
 def packed_error(out, k):
@@ -114,7 +122,7 @@ def packed_error(out, k):
 def muller_options(k):
     return ["-options_file", os.path.join(EX, "muller_bed_u060.opts"), "-t_final", MULLER_WINDOW + 1.0, "-dem_dt_factor", k["dt_factor"],
             "-couple_substeps", k["substeps"], "-average_start", 1.0, "-output_particles", 0, "-checkpoint_interval", 0, "-output_interval",
-            MULLER_SNAPSHOT_DT]
+            MULLER_SNAPSHOT_DT] + kn_options(k)
 
 
 def muller_error(out, k):
@@ -298,18 +306,21 @@ def jet2d_rows(path):
     unc = max(rel(twin, "dp_over_weight"), rel(twin, "bed_height_mm")) if twin and twin.get("dp_over_weight") else float("nan")
     rows = []
     for r in table:
-        if r["map"] not in ("cell_dt", "jet_sub", "ratio") or float(r["jet"]) != 45.3 or r["id"].endswith("_mirror") or r["id"] == r0["id"]:
+        if r["map"] not in ("cell_dt", "jet_sub", "ratio", "kn") or float(r["jet"]) != 45.3 or r["id"].endswith("_mirror") or r["id"] == r0["id"]:
             continue
         cell = "%s %s d" % (r["method"], r["cell_d"])
         if r["map"] == "ratio":
             cell += ", particle cells %s" % r["cells_per_particle_cell"]
-        # the ratio table's points were run with their own reference, on another executable and machine load than the
-        # main map's: a panel and a Pareto front of their own (jet2d_ratio), not costs to set beside the main map's
-        row = {"problem": "jet2d_ratio" if r["map"] == "ratio" else "jet2d", "knob": {"jet_sub": "substeps", "ratio": "pgrid_ratio"}.get(r["map"], "cell_dt"),
+        # the ratio and kn tables' points ran on another executable and machine load than the main map's: a panel and
+        # a Pareto front of their own (jet2d_ratio, jet2d_kn), not costs to set beside the main map's
+        row = {"problem": {"ratio": "jet2d_ratio", "kn": "jet2d_kn"}.get(r["map"], "jet2d"),
+               "knob": {"jet_sub": "substeps", "ratio": "pgrid_ratio", "kn": "kn"}.get(r["map"], "cell_dt"),
                "id": "jet2d_" + r["id"],
                "status": r["status"], "exit_status": r["exit_status"], "dt_factor": float(r["dt_factor"]), "substeps": int(r["substeps"]),
                "cell": cell, "error": float("nan"), "uncertainty": unc,
                "cost": float(r["cost_s_per_s_core"]) if r.get("cost_s_per_s_core") else float("nan"), "overlap_max": r.get("overlap_max")}
+        if r["map"] == "kn":
+            row["kn"] = float(r["kn"])
         if r.get("dp_over_weight") and r["class"] != "unstable":
             row["error"] = max(rel(r, "dp_over_weight"), rel(r, "bed_height_mm"))
         rows.append(row)
@@ -322,9 +333,10 @@ PROBLEMS = {
     "head_on": {"options": head_on_options, "error": head_on_error, "defaults": {"dt_factor": 0.1, "kn": 800},
                 "knobs": {"dt_factor": [0.5, 0.3, 0.2, 0.1, 0.05, 0.02]}},
     "packed": {"options": packed_options, "error": packed_error, "defaults": {"dt_factor": 0.1, "substeps": 1, "rtol": 1e-8, "pc_reuse": 10},
-               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 5, 10], "rtol": [1e-4, 1e-6, 1e-8, 1e-10], "pc_reuse": [1, 10, 100]}},
+               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 5, 10], "rtol": [1e-4, 1e-6, 1e-8, 1e-10], "pc_reuse": [1, 10, 100],
+                         "kn": [200, 50]}},
     "muller": {"options": muller_options, "error": muller_error, "defaults": {"dt_factor": 0.1, "substeps": 1},
-               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4]}},
+               "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4], "kn": [200, 50]}},
 }
 
 
@@ -412,6 +424,8 @@ def main():
                     help="the stability map's table, whose 2D jetted-bed points are the jet2d problem's")
     ap.add_argument("--ratio-csv", default=os.path.join(ROOT, "docs", "stability", "pgrid_ratio.csv"),
                     help="the stability map's particle-grid ratio table (its --maps ratio, with its own reference run): jet2d points of knob pgrid_ratio")
+    ap.add_argument("--kn-csv", default=os.path.join(ROOT, "docs", "stability", "kn_map.csv"),
+                    help="the stability map's stiffness table (its --maps kn): jet2d points of knob kn")
     ap.add_argument("--muller-long", help="long runs of examples/muller_bed_u060.opts with gas snapshots every 0.05 s, comma-separated: the "
                     "profiles' reference (their mean; see muller above), the first one's series the windows'")
     args = ap.parse_args()
@@ -472,7 +486,7 @@ def main():
             if len(long_runs) > 1:
                 rows += muller_long_rows(long_runs, cost)
     if derived:
-        rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv)
+        rows += jet2d_rows(args.stability_csv) + jet2d_rows(args.ratio_csv) + jet2d_rows(args.kn_csv)
     if args.keep_csv:
         have = set(r["id"] for r in rows)
         rows += study.kept_rows(args.csv, lambda r: r["id"] not in have)

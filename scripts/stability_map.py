@@ -9,7 +9,9 @@ finish, by its answers against the reference point (two grids on the seed's fine
   unstable    a guard stopped the run (which guard, when), or the start-up refused it.
 Maps: cell_dt (gas cell width / d against -dem_dt_factor), jet_sub (jet velocity against -couple_substeps), closed
 (the closed-box energy of a pure DEM granular gas against -dem_dt_factor), ratio (the particle grid's cells, in gas
-cells, on the reference's gas grid and step: the two-grid method's own knob, -pgrid_ratio; RATIOS). A finished point is never rerun, so the
+cells, on the reference's gas grid and step: the two-grid method's own knob, -pgrid_ratio; RATIOS), kn (the spring stiffness
+-dem_kn, walls too, on the cheap front point of the two grids, 3 d gas cells: the soft-spring trade in a jetted bed, where a
+longer step also moves the jet's particles further per step; KNS). A finished point is never rerun, so the
 study resumes where it stopped; --jobs runs points side by side and --ranks runs each on more ranks. docs/stability.md
 has the results; the table goes to --csv, the figure to --png.
 
@@ -18,6 +20,7 @@ example:
   scripts/stability_map.py --maps cell_dt --ranks 2 --jobs 8
   scripts/stability_map.py --ci --out build/stability_ci # the short version tests/analysis/test_stability_map.py runs
   scripts/stability_map.py --maps ratio --jobs 2 --csv docs/stability/pgrid_ratio.csv   # the ratio map, its own table
+  scripts/stability_map.py --maps kn --jobs 2 --csv docs/stability/kn_map.csv           # the stiffness map, its own table
 """
 import argparse
 import csv
@@ -48,6 +51,9 @@ REFERENCE = {"map": "cell_dt", "method": "two", "cell_d": 0.43, "dt_factor": 0.0
 # 25; y by 2, 4): 1.61 x 1.4 mm (2.1 x 1.9 d), 1.61 x 2.8 (2.1 x 3.7 d), the reference's 2.26 x 2.8 (3 x 3.7 d, the
 # seed's choice), 2.26 x 5.6 (3 x 7.5 d) and 8.05 x 5.6 mm (10.7 x 7.5 d, seven particle cells across the bed).
 RATIOS = [(5, 1), (5, 2), (7, 4), (25, 4)]
+# The kn map: -dem_kn (N/m) at -dem_dt_factor of each spring's own t_cr, on the two grids with 3 d gas cells (the front's
+# cheap point, 0.8% from the reference at t_cr/4); the seed's 800 N/m run again there so that the costs compare.
+KNS = [(0.25, 800), (0.25, 400), (0.25, 200), (0.25, 100), (0.1, 200), (0.1, 50)]
 
 # "inaccurate" thresholds (docs/stability.md): relative to the reference, or absolute where said
 THRESHOLDS = {"dp_rel": 0.10, "bed_height_rel": 0.10, "jet_rel": 0.25, "eps_rms_ratio": 2.0, "floor_share": 0.0, "overlap": 0.05}
@@ -93,7 +99,8 @@ def point_id(p):
     if p["map"] == "3d":
         return "3d_%s_%s_dt%g" % (p["grid3d"], p["method"], p["dt_factor"])
     ratio = "_p%dx%d" % tuple(p["ratio"]) if p.get("ratio") else ""
-    return "%s_%s_cell%g_dt%g_jet%g_sub%d%s%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], ratio, p.get("tag", ""))
+    kn = "_kn%g" % p["kn"] if p.get("kn") else ""
+    return "%s_%s_cell%g_dt%g_jet%g_sub%d%s%s%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], ratio, kn, p.get("tag", ""))
 
 
 def options(p, args, settled):
@@ -115,6 +122,8 @@ def options(p, args, settled):
          "-inlet_jets", "%.9g,%.9g,%.9g" % (JET_X, w, v), "-dem_dt_factor", p["dt_factor"], "-couple_substeps", p["substeps"],
          "-t_final", t, "-average_start", 0.5 * t, "-average_interval", 5e-4, "-output_interval", t / 20, "-output_particles", "0",
          "-fluid_output_cells", "0", "-monitor_dt", 5e-4]
+    if p.get("kn"):  # walls follow (-wall_kn defaults to -dem_kn), and the step follows the spring's own t_cr
+        o += ["-dem_kn", p["kn"]]
     if settled:  # the reference's "_mirror" twin starts from the same bed mirrored about the slit: its own noise
         o += ["-insert_type", "file", "-insert_file", settled.replace(".csv", "_mirror.csv") if p.get("tag") == "_mirror" else settled]
     return o
@@ -139,7 +148,7 @@ def eps_rms(outdir, t0):
 def measure(p, s, status, wall, outdir, args):
     """The point's figures from its summary.json and snapshots."""
     m = {"id": point_id(p), "exit_status": status, "wall_s": round(wall, 2)}
-    m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps")})
+    m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps", "kn")})
     if p["map"] == "3d":
         nx, ny, nz, ratio = GRIDS3D[p["grid3d"]]
         m.update({"gas_cells": "%dx%dx%d" % (nx, ny, nz), "cells_per_particle_cell": ratio.replace(",", "x"), "cell_d": round(LX / nx / D, 3)})
@@ -240,6 +249,9 @@ def points(maps, ci):
     if "ratio" in maps:
         for r in RATIOS:
             pts.append({k: REFERENCE[k] for k in ("method", "cell_d", "dt_factor", "jet", "substeps")} | {"map": "ratio", "ratio": r})
+    if "kn" in maps:
+        for dt, kn in KNS:
+            pts.append({"map": "kn", "method": "two", "cell_d": 3, "dt_factor": dt, "jet": JET_V, "substeps": 1, "kn": kn})
     if "closed" in maps:
         for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
             pts.append({"map": "closed", "dt_factor": dt})
@@ -325,7 +337,7 @@ def plot(rows, path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--maps", default="cell_dt,jet_sub,closed", help="which maps (comma-separated): cell_dt, jet_sub, closed, 3d, ratio")
+    ap.add_argument("--maps", default="cell_dt,jet_sub,closed", help="which maps (comma-separated): cell_dt, jet_sub, closed, 3d, ratio, kn")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "stability"), help="working directory of the runs (kept: the study resumes)")
     ap.add_argument("--csv", default=os.path.join(ROOT, "docs", "stability", "stability_map.csv"), help="the table of every point")
     ap.add_argument("--png", default=os.path.join(ROOT, "docs", "figures", "stability_map.png"), help="the map")
@@ -375,7 +387,7 @@ def main():
         m["class"], m["why"] = classify(m, reference_of(m, results, ref) if not args.ci else None, tol)
         rows.append(m)
     rows.sort(key=lambda r: r["id"])
-    keys = ["id", "map", "method", "cell_d", "dt_factor", "jet", "substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
+    keys = ["id", "map", "method", "cell_d", "dt_factor", "kn", "jet", "substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
             "status", "exit_status", "guard", "guard_time", "t_end", "dp_over_weight", "bed_height_mm", "jet_mm", "eps_rms", "floor_share_max",
             "eps_raw_min", "overlap_max", "displacement_max", "energy_growth_max", "courant_max", "ksp_its", "particles_out", "ranks", "wall_s",
             "cost_s_per_s_core", "cpu_share"]
