@@ -51,6 +51,7 @@ import os
 import numpy as np
 
 from fluidbed_tools import outputs, reference, run, study
+from fluidbed_tools.stats import batch_error
 import profile_asymmetry  # the voidage rows of a run's snapshots and their block-means errors
 import umf_sweep  # the small bed's particles, geometry and pressure probes
 
@@ -135,12 +136,6 @@ def muller_error(out, k):
     mon = read_table(os.path.join(out, "monitor.csv"))
     series = (mon["p_y2_5mm_avg"] - mon["p_y157_5mm_avg"])[mon["time"] >= 1.0]
     return abs(dp / weight - 1), batch_error(series) / weight
-
-
-def batch_error(series, batches=10):
-    """The standard error of a time series' mean by batch means (each batch longer than the bubble period)."""
-    b = np.array([x.mean() for x in np.array_split(np.asarray(series), batches)])
-    return float(b.std(ddof=1) / math.sqrt(len(b)))
 
 
 MULLER_WINDOW = 4.0  # s: every Muller point averages over 1-5 s; the window rows are cut from the default point's run
