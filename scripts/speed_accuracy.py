@@ -316,6 +316,8 @@ def jet2d_rows(path):
                "cost": float(r["cost_s_per_s_core"]) if r.get("cost_s_per_s_core") else float("nan"), "overlap_max": r.get("overlap_max")}
         if r["map"] == "kn":
             row["kn"] = float(r["kn"])
+            gas = int(r.get("gas_substeps") or 1)
+            row["cell"] += ", %d gas steps per DEM step" % gas if gas > 1 else ""
         if r.get("dp_over_weight") and r["class"] != "unstable":
             row["error"] = max(rel(r, "dp_over_weight"), rel(r, "bed_height_mm"))
         rows.append(row)

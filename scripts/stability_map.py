@@ -52,8 +52,10 @@ REFERENCE = {"map": "cell_dt", "method": "two", "cell_d": 0.43, "dt_factor": 0.0
 # seed's choice), 2.26 x 5.6 (3 x 7.5 d) and 8.05 x 5.6 mm (10.7 x 7.5 d, seven particle cells across the bed).
 RATIOS = [(5, 1), (5, 2), (7, 4), (25, 4)]
 # The kn map: -dem_kn (N/m) at -dem_dt_factor of each spring's own t_cr, on the two grids with 3 d gas cells (the front's
-# cheap point, 0.8% from the reference at t_cr/4); the seed's 800 N/m run again there so that the costs compare.
-KNS = [(0.25, 800), (0.25, 400), (0.25, 200), (0.25, 100), (0.1, 200), (0.1, 50)]
+# cheap point, 0.8% from the reference at t_cr/4); the seed's 800 N/m run again there so that the costs compare. The third
+# figure is -couple_gas_substeps: gas steps per DEM step, for a DEM step longer than the jet's explicit gas limit.
+KNS = [(0.25, 800, 1), (0.25, 400, 1), (0.25, 200, 1), (0.25, 100, 1), (0.1, 200, 1), (0.1, 50, 1), (0.25, 400, 2), (0.25, 200, 2),
+       (0.25, 100, 3)]
 
 # "inaccurate" thresholds (docs/stability.md): relative to the reference, or absolute where said
 THRESHOLDS = {"dp_rel": 0.10, "bed_height_rel": 0.10, "jet_rel": 0.25, "eps_rms_ratio": 2.0, "floor_share": 0.0, "overlap": 0.05}
@@ -100,6 +102,7 @@ def point_id(p):
         return "3d_%s_%s_dt%g" % (p["grid3d"], p["method"], p["dt_factor"])
     ratio = "_p%dx%d" % tuple(p["ratio"]) if p.get("ratio") else ""
     kn = "_kn%g" % p["kn"] if p.get("kn") else ""
+    kn += "_g%d" % p["gas_substeps"] if p.get("gas_substeps", 1) > 1 else ""
     return "%s_%s_cell%g_dt%g_jet%g_sub%d%s%s%s" % (p["map"], p["method"], p["cell_d"], p["dt_factor"], p["jet"], p["substeps"], ratio, kn, p.get("tag", ""))
 
 
@@ -124,6 +127,8 @@ def options(p, args, settled):
          "-fluid_output_cells", "0", "-monitor_dt", 5e-4]
     if p.get("kn"):  # walls follow (-wall_kn defaults to -dem_kn), and the step follows the spring's own t_cr
         o += ["-dem_kn", p["kn"]]
+    if p.get("gas_substeps", 1) > 1:
+        o += ["-couple_gas_substeps", p["gas_substeps"]]
     if settled:  # the reference's "_mirror" twin starts from the same bed mirrored about the slit: its own noise
         o += ["-insert_type", "file", "-insert_file", settled.replace(".csv", "_mirror.csv") if p.get("tag") == "_mirror" else settled]
     return o
@@ -148,7 +153,7 @@ def eps_rms(outdir, t0):
 def measure(p, s, status, wall, outdir, args):
     """The point's figures from its summary.json and snapshots."""
     m = {"id": point_id(p), "exit_status": status, "wall_s": round(wall, 2)}
-    m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps", "kn")})
+    m.update({k: p.get(k) for k in ("map", "method", "cell_d", "dt_factor", "jet", "substeps", "kn", "gas_substeps")})
     if p["map"] == "3d":
         nx, ny, nz, ratio = GRIDS3D[p["grid3d"]]
         m.update({"gas_cells": "%dx%dx%d" % (nx, ny, nz), "cells_per_particle_cell": ratio.replace(",", "x"), "cell_d": round(LX / nx / D, 3)})
@@ -250,8 +255,8 @@ def points(maps, ci):
         for r in RATIOS:
             pts.append({k: REFERENCE[k] for k in ("method", "cell_d", "dt_factor", "jet", "substeps")} | {"map": "ratio", "ratio": r})
     if "kn" in maps:
-        for dt, kn in KNS:
-            pts.append({"map": "kn", "method": "two", "cell_d": 3, "dt_factor": dt, "jet": JET_V, "substeps": 1, "kn": kn})
+        for dt, kn, gas in KNS:
+            pts.append({"map": "kn", "method": "two", "cell_d": 3, "dt_factor": dt, "jet": JET_V, "substeps": 1, "kn": kn, "gas_substeps": gas})
     if "closed" in maps:
         for dt in (0.05, 0.1, 0.25, 0.5, 1.0, 1.5):
             pts.append({"map": "closed", "dt_factor": dt})
@@ -387,7 +392,7 @@ def main():
         m["class"], m["why"] = classify(m, reference_of(m, results, ref) if not args.ci else None, tol)
         rows.append(m)
     rows.sort(key=lambda r: r["id"])
-    keys = ["id", "map", "method", "cell_d", "dt_factor", "kn", "jet", "substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
+    keys = ["id", "map", "method", "cell_d", "dt_factor", "kn", "jet", "substeps", "gas_substeps", "gas_cells", "cells_per_particle_cell", "slit_mm", "class", "why",
             "status", "exit_status", "guard", "guard_time", "t_end", "dp_over_weight", "bed_height_mm", "jet_mm", "eps_rms", "floor_share_max",
             "eps_raw_min", "overlap_max", "displacement_max", "energy_growth_max", "courant_max", "ksp_its", "particles_out", "ranks", "wall_s",
             "cost_s_per_s_core", "cpu_share"]

@@ -44,8 +44,8 @@ struct CouplingStats {
   PetscInt64 cells       = 0;            // coupling cells in all
 };
 
-// Reads -couple_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the particles' external-force hook and
-// sets the buoyancy factor.
+// Reads -couple_substeps, -couple_gas_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the particles' external-force hook
+// and sets the buoyancy factor.
 PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, ParticleSystem *particles, Fluid *fluid,
                               PhaseLog *log, Coupling **coupling);
 // The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
@@ -66,8 +66,12 @@ PetscBool   CouplingOnParticleGrid(const Coupling *coupling);
 PetscBool CouplingGasStepDue(const Coupling *coupling);
 // -couple_substeps: DEM steps per gas step.
 PetscInt CouplingSubsteps(const Coupling *coupling);
-// The coupled gas step (DEM step x -couple_substeps; -fluid_dt is an input error with particles) and the gas's own
-// explicit limit for its current state, s.
+// -couple_gas_substeps: gas steps per DEM step (1 unless -couple_substeps is 1). Between two DEM steps the gas then
+// takes that many steps with the particles' void fraction and drag coefficients of the last DEM step (held, as the
+// particles hold the gas velocity between gas steps with -couple_substeps).
+PetscInt CouplingGasSubsteps(const Coupling *coupling);
+// The coupled gas step (DEM step x -couple_substeps / -couple_gas_substeps; -fluid_dt is an input error with particles)
+// and the gas's own explicit limit for its current state, s.
 PetscErrorCode CouplingGasStep(Coupling *coupling, PetscReal *dt_gas, PetscReal *dt_max);
 
 // The coupling state a checkpoint needs to continue bit for bit (/coupling: per-cell sums, void fraction, the

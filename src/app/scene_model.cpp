@@ -260,10 +260,15 @@ PetscErrorCode SceneModelBuild(Simulation *sim, SceneModel *m)
   }
 
   if (cpl) {
-    const PetscInt substeps = CouplingSubsteps(cpl);
-    row("gas step", Count(substeps, "DEM step") + Format(" = %.4g s", (double)(substeps * DemGetParams(dem).dt)),
-        given.Why({"-couple_substeps"}));
+    const PetscInt substeps = CouplingSubsteps(cpl), gas_substeps = CouplingGasSubsteps(cpl);
+    if (gas_substeps > 1)
+      row("gas step", Format("1 DEM step / %d = %.4g s", (int)gas_substeps, (double)(DemGetParams(dem).dt / gas_substeps)),
+          given.Why({"-couple_gas_substeps"}));
+    else
+      row("gas step", Count(substeps, "DEM step") + Format(" = %.4g s", (double)(substeps * DemGetParams(dem).dt)),
+          given.Why({"-couple_substeps"}));
     json.Integer("substeps", (long long)substeps);
+    json.Integer("gas_substeps", (long long)gas_substeps);
   } else if (gas) {
     const PetscReal fixed = FluidFixedTimeStep(gas);
     row("gas step", fixed > 0 ? Format("fixed, %.4g s", (double)fixed) : "follows the gas limits", given.Why({"-fluid_dt", "-fluid_cfl"}));

@@ -128,7 +128,7 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
     PetscCall(FluidView(sim->fluid, viewer));
     if (sim->coupling) {
       // coupled: the gas step is a whole number of DEM steps and must respect the gas limits
-      const PetscInt substeps = CouplingSubsteps(sim->coupling);
+      const PetscInt substeps = CouplingSubsteps(sim->coupling), gas_substeps = CouplingGasSubsteps(sim->coupling);
       PetscReal      dt_gas, dt_max;
       PetscCall(CouplingGasStep(sim->coupling, &dt_gas, &dt_max));
       // Said on the initial state: the gas step may exceed its explicit limit for a while (a jet entering a packed bed)
@@ -136,11 +136,14 @@ PetscErrorCode SimulationSetUp(Simulation *sim)
       if (!restart && dt_gas > dt_max)
         PetscCall(
           PetscPrintf(sim->comm,
-                      "WARNING: the gas step %.6g s (DEM step %.6g s x -couple_substeps %d) exceeds the gas limit %.6g s at the start "
-                      "(Courant number %.3g); the Courant guard stops the run if it stays above -guard_courant. To fit: %s\n",
-                      (double)dt_gas, (double)DemGetParams(sim->dem).dt, (int)substeps, (double)dt_max,
+                      "WARNING: the gas step %.6g s (DEM step %.6g s x -couple_substeps %d / -couple_gas_substeps %d) exceeds the gas "
+                      "limit %.6g s at the start (Courant number %.3g); the Courant guard stops the run if it stays above "
+                      "-guard_courant. To fit: %s\n",
+                      (double)dt_gas, (double)DemGetParams(sim->dem).dt, (int)substeps, (int)gas_substeps, (double)dt_max,
                       (double)(dt_gas / dt_max * FluidCfl(sim->fluid)), GuardsCourantRemedy(sim->guards, dt_max).c_str()));
-      PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)substeps, (double)dt_gas));
+      if (gas_substeps > 1)
+        PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step / %d = %.4g s\n", (int)gas_substeps, (double)dt_gas));
+      else PetscCall(PetscViewerASCIIPrintf(viewer, "Gas step = DEM step x %d = %.4g s\n", (int)substeps, (double)dt_gas));
     }
   }
   // Every module exists and has read its options: what the scene models, and where it asks for more or less than it can use.
@@ -238,7 +241,8 @@ PetscErrorCode OutputStep(Simulation *sim, PetscBool last)
 PetscErrorCode SimulationRun(Simulation *sim)
 {
   Dem            *dem    = sim->dem;
-  const PetscInt  sub    = sim->coupling ? CouplingSubsteps(sim->coupling) : 1; // DEM steps per gas step
+  const PetscInt  sub    = sim->coupling ? CouplingSubsteps(sim->coupling) : 1;    // DEM steps per gas step
+  const PetscInt  nsub   = sim->coupling ? CouplingGasSubsteps(sim->coupling) : 1; // gas steps per DEM step
   const PetscReal dt_dem = dem ? DemGetParams(dem).dt : 0.0;
   // With particles, steps count from the start of the simulated time (t = step dt), so that a restarted run
   // reproduces the times of the uninterrupted one. -max_steps limits the steps of this run.
@@ -279,13 +283,16 @@ PetscErrorCode SimulationRun(Simulation *sim)
   while (!finished() && !GuardsStopped(sim->guards)) {
     PetscReal dt = dt_dem;
     if (sim->fluid && (!sim->coupling || CouplingGasStepDue(sim->coupling))) {
-      PetscReal dt_gas = sub * dt_dem;
+      PetscReal dt_gas = sub * dt_dem / nsub;
       if (!dem) PetscCall(GasOnlyStep(sim, &dt_gas));
       // seed chapter 5: the gas advances first, with the void fraction and exchange terms of the particles' last step
+      // (held over the -couple_gas_substeps gas steps of one DEM step)
       if (sim->coupling) PetscCall(CouplingBeforeFluidStep(sim->coupling));
-      PetscCall(FluidStep(sim->fluid, dt_gas));
+      for (PetscInt k = 0; k < nsub && !GuardsStopped(sim->guards); ++k) {
+        PetscCall(FluidStep(sim->fluid, dt_gas));
+        PetscCall(GuardsCheckGas(sim->guards, sim->step, sim->time + (k + 1) * dt_gas));
+      }
       if (sim->coupling) PetscCall(CouplingAfterFluidStep(sim->coupling));
-      PetscCall(GuardsCheckGas(sim->guards, sim->step, sim->time + dt_gas));
       if (!dem) dt = dt_gas;
     }
     if (GuardsStopped(sim->guards)) break;

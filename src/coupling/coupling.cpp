@@ -33,7 +33,7 @@ struct Coupling {
   ParticleSystem *particles = nullptr;
   Fluid          *fluid     = nullptr;
   PhaseLog       *log       = nullptr;
-  PetscInt        dim = 3, substeps = 1;
+  PetscInt        dim = 3, substeps = 1, gas_substeps = 1;
   CouplingGrid    mode = COUPLING_GRID_TWO;
   PetscInt        n[3]{1, 1, 1}, ratio[3]{1, 1, 1};
   PetscReal       h[3]{1, 1, 1}, cell_volume = 1;
@@ -285,6 +285,10 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
   PetscOptionsBegin(comm, "", "Gas-particle coupling (seed eq. 2.11-2.21, two-grid mapping eq. 5.1-5.5)", "Coupling");
   PetscCall(OptionsInt(PetscOptionsObject, "-couple_substeps", "DEM steps per gas step (gas step = DEM step x this)", 1, 100000,
                        &c->substeps, NULL));
+  PetscCall(OptionsInt(PetscOptionsObject, "-couple_gas_substeps",
+                       "Gas steps per DEM step (gas step = DEM step / this), the particles' void fraction and drag held over them: for a "
+                       "DEM step longer than the gas's explicit limit (a soft spring beside a fast jet); only with -couple_substeps 1",
+                       1, 1000, &c->gas_substeps, NULL));
   PetscCall(OptionsEnum(PetscOptionsObject, "-couple_grid",
                         "Where void fraction and drag are summed: two (particle grid, eq. 5.1-5.5) or single (fluid grid)",
                         CouplingGridTypes, (PetscEnum *)&c->mode, NULL));
@@ -302,6 +306,10 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
                                 laws, c->drag_name, c->drag_name, sizeof(c->drag_name), NULL));
   }
   PetscOptionsEnd();
+  PetscCheck(c->substeps == 1 || c->gas_substeps == 1, comm, PETSC_ERR_USER_INPUT,
+             "-couple_substeps %d and -couple_gas_substeps %d: one of them must be 1 (several DEM steps per gas step, or several gas "
+             "steps per DEM step)",
+             (int)c->substeps, (int)c->gas_substeps);
   PetscCall(DragLawGet(c->drag_name, &c->drag));
   PetscCheck(FluidIsModelB(fluid), comm, PETSC_ERR_USER_INPUT, "the coupling implements the seed's Model B: use -fluid_model B");
   PetscCall(FluidGetGasProperties(fluid, &c->rho_g, &c->mu_g));
@@ -521,12 +529,17 @@ PetscInt CouplingSubsteps(const Coupling *c)
   return c->substeps;
 }
 
+PetscInt CouplingGasSubsteps(const Coupling *c)
+{
+  return c->gas_substeps;
+}
+
 PetscErrorCode CouplingGasStep(Coupling *c, PetscReal *dt_gas, PetscReal *dt_max)
 {
   PetscFunctionBeginUser;
   PetscCheck(FluidFixedTimeStep(c->fluid) == 0, c->comm, PETSC_ERR_USER_INPUT,
-             "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps");
-  *dt_gas = ParticlesTimeStep(c->particles) * c->substeps;
+             "-fluid_dt: with particles the gas step is the DEM step times -couple_substeps (or over -couple_gas_substeps)");
+  *dt_gas = ParticlesTimeStep(c->particles) * c->substeps / c->gas_substeps;
   PetscCall(FluidMaxTimeStep(c->fluid, dt_max));
   PetscFunctionReturn(0);
 }
@@ -538,15 +551,19 @@ const CouplingStats &CouplingGetStats(const Coupling *c)
 
 PetscErrorCode CouplingView(const Coupling *c, PetscViewer viewer)
 {
+  char step[64];
+
   PetscFunctionBeginUser;
+  if (c->gas_substeps > 1) PetscCall(PetscSNPrintf(step, sizeof(step), "1 / %d DEM step", (int)c->gas_substeps));
+  else PetscCall(PetscSNPrintf(step, sizeof(step), "%d DEM steps", (int)c->substeps));
   if (c->mode == COUPLING_GRID_TWO)
     PetscCall(PetscViewerASCIIPrintf(
-      viewer, "Coupling: two grids, particle cells of %d x %d x %d fluid cells; drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
-      (int)c->ratio[0], (int)c->ratio[1], (int)c->ratio[2], c->drag_name, (int)c->substeps));
+      viewer, "Coupling: two grids, particle cells of %d x %d x %d fluid cells; drag %s; buoyancy (Model B); gas step = %s\n",
+      (int)c->ratio[0], (int)c->ratio[1], (int)c->ratio[2], c->drag_name, step));
   else
     PetscCall(PetscViewerASCIIPrintf(
-      viewer, "Coupling: single grid (void fraction and drag on the fluid cells); drag %s; buoyancy (Model B); gas step = %d DEM steps\n",
-      c->drag_name, (int)c->substeps));
+      viewer, "Coupling: single grid (void fraction and drag on the fluid cells); drag %s; buoyancy (Model B); gas step = %s\n",
+      c->drag_name, step));
   PetscFunctionReturn(0);
 }
 

@@ -243,12 +243,16 @@ std::string CourantRemedy(const Guards *g, PetscReal dt_max)
   const PetscReal dt       = DemGetParams(g->dem).dt;
   const PetscInt  k        = (PetscInt)(dt_max / dt);
   const PetscInt  substeps = g->coupling ? CouplingSubsteps(g->coupling) : 1;
+  const PetscInt  gas_sub  = g->coupling ? CouplingGasSubsteps(g->coupling) : 1;
   if (substeps > 1 && k >= 1) return Format("fewer DEM steps per gas step: -couple_substeps at most %d (now %d)", (int)k, (int)substeps);
-  return Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: -dem_dt_factor at "
-                "most %.3g (now %.3g), a coarser gas grid (-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is "
-                "held at the floor (-couple_eps_min) the gas speeds up through those cells: fix the grid first",
-                (double)dt, (double)dt_max, (int)substeps, (double)(DemGetParams(g->dem).dt_factor * dt_max / dt),
-                (double)DemGetParams(g->dem).dt_factor);
+  // the gas steps of one DEM step that bring the gas step within the limit
+  const PetscInt need = (PetscInt)PetscCeilReal(dt / dt_max * (1.0 - 1e-12));
+  return Format("the DEM step %.4g s alone exceeds the gas limit %.4g s, so -couple_substeps (now %d) cannot help: more gas steps per DEM "
+                "step, -couple_gas_substeps at least %d (now %d), -dem_dt_factor at most %.3g (now %.3g), a coarser gas grid "
+                "(-grid_nx/-grid_ny/-grid_nz) or a slower jet; if the void fraction is held at the floor (-couple_eps_min) the gas "
+                "speeds up through those cells: fix the grid first",
+                (double)dt, (double)dt_max, (int)substeps, (int)PetscMax(need, gas_sub + 1), (int)gas_sub,
+                (double)(DemGetParams(g->dem).dt_factor * dt_max / dt), (double)DemGetParams(g->dem).dt_factor);
 }
 
 } // namespace

@@ -66,6 +66,9 @@ t.check(ns == 18 and abs(a["series/time"][0] - 0.005) < 1e-4, "dem: %d samples f
 # the coupled run continues bit for bit too (tests/io/test_coupled_restart.py), on 1 and 2 ranks
 g = restart(t.example("coupling/small_bed.opts"), gas, 0.006, 0.012, 1, (1,), "gas", 1e-12)[0]
 restart(t.example("coupling/small_bed.opts"), gas, 0.006, 0.012, 2, (2,), "gas2", 1e-12)
+# and with two gas steps per DEM step (-couple_gas_substeps)
+gas_sub = gas[:gas.index("-couple_substeps")] + ["-couple_substeps", 1, "-couple_gas_substeps", 2] + gas[gas.index("-couple_substeps") + 2:]
+restart(t.example("coupling/small_bed.opts"), gas_sub, 0.006, 0.012, 1, (1,), "gas_sub", 1e-12)
 t.check("series/pressure_drop" in g and "series/jet_height" in g and np.isfinite(g["series/pressure_drop"][1:]).all(),
         "gas: pressure drop and jet height series continue across the restart (%d samples, drop %.1f..%.1f Pa)"
         % (len(g["series/time"]), np.nanmin(g["series/pressure_drop"]), np.nanmax(g["series/pressure_drop"])))

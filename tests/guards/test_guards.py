@@ -145,3 +145,10 @@ out, s = stopped("courant", jetted, substeps + ["-guard_courant", "1", "-guard_c
 t.check(flagged_cells(out) == 1, "courant: the snapshot flags the fastest cell (%d)" % flagged_cells(out))
 out, s = ok("courant_inside", jetted, substeps)
 t.check(1 < s["guard_figures"]["courant_max"] < 2, "the same run under the default limit 2: largest Courant number %.3f" % s["guard_figures"]["courant_max"])
+# A DEM step twice as long (a quarter of the stiffness at the same fraction of its t_cr): no -couple_substeps helps,
+# the remedy names -couple_gas_substeps, and with two gas steps per DEM step the gas keeps the default's step
+soft = ["-dem_kn", "200", "-t_final", "0.05"]
+out, s = stopped("courant_soft", jetted, soft + ["-guard_courant", "1", "-guard_courant_steps", "20"], "courant", ["-couple_gas_substeps at least"])
+out, s = ok("courant_gas_substeps", jetted, soft + ["-couple_gas_substeps", "2"])
+t.check(s["guard_figures"]["courant_max"] < 1 and s["fluid"]["steps"] == 2 * s["steps"] and s["model"]["gas_substeps"] == 2,
+        "-couple_gas_substeps 2: largest Courant number %.3f, %d gas steps for %d DEM steps" % (s["guard_figures"]["courant_max"], s["fluid"]["steps"], s["steps"]))

@@ -51,6 +51,8 @@ cases = [
     # names chosen from a list
     (["-insert_type", "foo"], ["-insert_type foo", "not one of", "lattice, random, list, file"]),
     (["-fluid", "-drag_model", "foo"], ["-drag_model foo", "ergun_wenyu", "gidaspow"]),
+    (["-fluid", "-couple_gas_substeps", "0"], ["-couple_gas_substeps", "out of range", "[1, 1000]"]),
+    (["-fluid", "-couple_substeps", "2", "-couple_gas_substeps", "3"], ["-couple_substeps 2", "-couple_gas_substeps 3", "one of them must be 1"]),
     (["-fluid", "-fluid_p_ksp_type", "foo"], ["-fluid_p_ksp_type foo", "KSP type", "bcgs", "cg", "gmres"]),
     (["-fluid", "-fluid_p_pc_type", "bar"], ["-fluid_p_pc_type bar", "PC type", "hypre", "jacobi", "mg"]),
     (["-fluid", "-fluid_p_pc_type", "mg", "-fluid_p_mg_levels_ksp_type", "foo"], ["-fluid_p_mg_levels_ksp_type foo", "KSP type", "chebyshev"]),

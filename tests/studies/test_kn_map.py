@@ -15,7 +15,7 @@ import speed_accuracy as sa  # noqa: E402
 import stability_map as sm  # noqa: E402
 
 pts = sm.points(["kn"], False)
-t.check([(p["dt_factor"], p["kn"]) for p in pts] == sm.KNS and (0.25, 800) in sm.KNS, "one point per (step, k_n) of KNS: %s" % sm.KNS)
+t.check([(p["dt_factor"], p["kn"], p["gas_substeps"]) for p in pts] == sm.KNS and (0.25, 800, 1) in sm.KNS, "one point per (step, k_n, gas substeps) of KNS: %s" % sm.KNS)
 
 
 class Args:
@@ -23,15 +23,16 @@ class Args:
 
 
 for p in pts:
-    plain = {k: v for k, v in p.items() if k != "kn"}
+    plain = {k: v for k, v in p.items() if k not in ("kn", "gas_substeps")}
     plain["map"] = "cell_dt"
     o, base = sm.options(p, Args, None), sm.options(plain, Args, None)
-    t.check(o == base + ["-dem_kn", p["kn"]], "%s: the cell_dt point's options with -dem_kn %g added" % (sm.point_id(p), p["kn"]))
-t.check(len({sm.point_id(p) for p in pts}) == len(pts) and all(sm.point_id(p).endswith("_kn%g" % p["kn"]) for p in pts), "each point its own run directory")
+    extra = ["-dem_kn", p["kn"]] + (["-couple_gas_substeps", p["gas_substeps"]] if p["gas_substeps"] > 1 else [])
+    t.check(o == base + extra, "%s: the cell_dt point's options with %s added" % (sm.point_id(p), extra))
+t.check(len({sm.point_id(p) for p in pts}) == len(pts) and all("_kn%g" % p["kn"] in sm.point_id(p) for p in pts), "each point its own run directory")
 
 dts = {}
 for p in pts:
-    if p["dt_factor"] == 0.25 and p["kn"] in (800, 200):
+    if p["dt_factor"] == 0.25 and p["kn"] in (800, 200) and p["gas_substeps"] == 1:
         o = [str(a) for a in sm.options(p, Args, None)]
         out, _ = t.run(o[1], args=o[2:], outdir="kn_%g" % p["kn"])  # -options_file first, so that -output_dir is the test's
         s = t.summary(out)
@@ -43,7 +44,7 @@ t.check(abs(dts[200] / dts[800] - 2.0) < 1e-6, "a quarter of the stiffness, twic
 keys = ["id", "map", "method", "cell_d", "dt_factor", "kn", "jet", "substeps", "cells_per_particle_cell", "class", "status", "exit_status",
         "dp_over_weight", "bed_height_mm", "cost_s_per_s_core", "overlap_max"]
 p800 = [p for p in pts if p["kn"] == 800][0]
-p100 = [p for p in pts if p["kn"] == 100][0]
+p100 = [p for p in pts if p["kn"] == 100 and p["gas_substeps"] == 1][0]
 rows = [dict(id=sm.point_id(sm.REFERENCE), map="cell_dt", method="two", cell_d=0.43, dt_factor=0.05, kn="", jet=45.3, substeps=1,
              cells_per_particle_cell="7x2", status="ok", exit_status=0, dp_over_weight=1.0, bed_height_mm=80.0, cost_s_per_s_core=1000),
         dict(id=sm.point_id(p800), map="kn", method="two", cell_d=3, dt_factor=0.25, kn=800, jet=45.3, substeps=1, cells_per_particle_cell="1x2",
