@@ -9,6 +9,8 @@
 // freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
 // the checkpoints written from them are unchanged too.
 #include "dem_impl.hpp"
+
+#include <cstdint>
 #include "fluidbed/kernels/periodic.hpp"
 
 #include "history_slots.hpp"
@@ -209,10 +211,11 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   // Pairs apart add a zero contribution. The sums start at +0 and, with round-to-nearest, a sum is -0 only when
   // both terms are, so they never become -0: adding a zero (of either sign) leaves them unchanged bit for bit,
   // as if the pair were skipped. A pair evaluated by the partner adds {-force, n x f_t, -impulse}: -1 * x is -x.
+  // An entry is never negative: unsigned, its halves are a shift and a mask (no sign fix-ups in this hot loop).
   for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-    const PetscInt      code = nl.entries[(std::size_t)e];
-    const Contribution &c    = L.contrib[code / 2];
-    const PetscReal     s    = kSign[code % 2];
+    const auto          code = (std::uint32_t)nl.entries[(std::size_t)e];
+    const Contribution &c    = L.contrib[code >> 1];
+    const PetscReal     s    = kSign[code & 1u];
     sum.F += s * c.force;
     sum.T += bi.r * c.n_cross_ft;
     sum.J += s * c.impulse;
