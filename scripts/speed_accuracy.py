@@ -468,13 +468,15 @@ def main():
         long_runs = [x for x in (args.muller_long or "").split(",") if x]
         rows += muller_profile_rows(rows, args.out, long_runs or None)
         if long_runs:
-            # the windows are cut from the first long run; a run still going (or stopped without its summary) is costed
-            # as the default point: the same settings
+            # the windows are cut from the first long run; a run still going (or stopped without its summary), or one
+            # that did not have its core to itself (processor share below 0.9, or not recorded), is costed as the
+            # default point: the same settings
             first = long_runs[0]
             default_id = point_id("muller", PROBLEMS["muller"]["defaults"])
             default = [r["cost"] for r in rows if r["id"] == default_id]
-            if os.path.exists(os.path.join(first, "summary.json")):
-                cost = outputs.run_cost(outputs.summary(first))[0]
+            own = outputs.run_cost(outputs.summary(first)) if os.path.exists(os.path.join(first, "summary.json")) else (float("nan"), float("nan"))
+            if own[1] >= 0.9 or (own[0] == own[0] and not default):
+                cost = own[0]
             elif default:
                 cost = default[0]
             else:
