@@ -36,12 +36,13 @@ struct Coupling;
 // Totals for monitor.csv: drag on the particles and its reaction on the gas (they cancel to round-off), and the
 // void fraction range.
 struct CouplingStats {
-  PetscReal  drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
-  PetscReal  drag_gas[3]{0, 0, 0};       // the drag the gas received in its last step, M - B u summed over cells, N
-  PetscReal  eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
-  PetscInt64 clamped     = 0;            // cells whose eps hit -couple_eps_min in the last DEM step
-  PetscReal  eps_raw_min = 1;            // the least 1 - solid volume / cell volume before the floor (< 0: overfilled)
-  PetscInt64 cells       = 0;            // coupling cells in all
+  PetscReal drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
+  PetscReal drag_gas[3]{
+    0, 0, 0}; // the drag the gas received in its last step (the mean over a DEM step's gas steps), M - B u summed over cells, N
+  PetscReal  eps_min = 1, eps_max = 1; // over coupling cells, last DEM step
+  PetscInt64 clamped     = 0;          // cells whose eps hit -couple_eps_min in the last DEM step
+  PetscReal  eps_raw_min = 1;          // the least 1 - solid volume / cell volume before the floor (< 0: overfilled)
+  PetscInt64 cells       = 0;          // coupling cells in all
 };
 
 // Reads -couple_substeps, -couple_gas_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the particles' external-force hook
@@ -49,9 +50,11 @@ struct CouplingStats {
 PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &domain, const Grids &grids, ParticleSystem *particles, Fluid *fluid,
                               PhaseLog *log, Coupling **coupling);
 // The void fraction of the initial particles for the first gas step, and the gas velocity per coupling cell.
-PetscErrorCode       CouplingSetUp(Coupling *coupling);
-PetscErrorCode       CouplingBeforeFluidStep(Coupling *coupling);
-PetscErrorCode       CouplingAfterFluidStep(Coupling *coupling);
+PetscErrorCode CouplingSetUp(Coupling *coupling);
+PetscErrorCode CouplingBeforeFluidStep(Coupling *coupling);
+// After gas step k of the n of one DEM step (n = -couple_gas_substeps, else 1): the gas velocity per coupling cell,
+// averaged over the n steps once the last is taken.
+PetscErrorCode       CouplingAfterFluidStep(Coupling *coupling, PetscInt k, PetscInt n);
 const CouplingStats &CouplingGetStats(const Coupling *coupling);
 PetscErrorCode       CouplingView(const Coupling *coupling, PetscViewer viewer);
 // For the void-fraction guard: this rank's fluid cells (natural indices) that lie in coupling cells held at the floor,

@@ -290,9 +290,9 @@ PetscErrorCode SimulationRun(Simulation *sim)
       if (sim->coupling) PetscCall(CouplingBeforeFluidStep(sim->coupling));
       for (PetscInt k = 0; k < nsub && !GuardsStopped(sim->guards); ++k) {
         PetscCall(FluidStep(sim->fluid, dt_gas));
+        if (sim->coupling) PetscCall(CouplingAfterFluidStep(sim->coupling, k, nsub));
         PetscCall(GuardsCheckGas(sim->guards, sim->step, sim->time + (k + 1) * dt_gas));
       }
-      if (sim->coupling) PetscCall(CouplingAfterFluidStep(sim->coupling));
       if (!dem) dt = dt_gas;
     }
     if (GuardsStopped(sim->guards)) break;

@@ -34,6 +34,7 @@ struct Coupling {
   Fluid          *fluid     = nullptr;
   PhaseLog       *log       = nullptr;
   PetscInt        dim = 3, substeps = 1, gas_substeps = 1;
+  PetscReal       drag_gas_local[3]{0, 0, 0}; // this rank's drag on the gas, summed over the gas steps of a DEM step
   CouplingGrid    mode = COUPLING_GRID_TWO;
   PetscInt        n[3]{1, 1, 1}, ratio[3]{1, 1, 1};
   PetscReal       h[3]{1, 1, 1}, cell_volume = 1;
@@ -353,7 +354,7 @@ PetscErrorCode CouplingCreate(MPI_Comm comm, const Domain &dom, const Grids &gri
 PetscErrorCode CouplingSetUp(Coupling *c)
 {
   PetscFunctionBeginUser;
-  PetscCall(CouplingAfterFluidStep(c)); // the initial gas velocity per coupling cell
+  PetscCall(CouplingAfterFluidStep(c, 0, 1)); // the initial gas velocity per coupling cell
   PetscFunctionReturn(0);
 }
 
@@ -396,38 +397,45 @@ PetscErrorCode CouplingBeforeFluidStep(Coupling *c)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingAfterFluidStep(Coupling *c)
+PetscErrorCode CouplingAfterFluidStep(Coupling *c, PetscInt k, PetscInt n)
 {
   DM        da_v;
   Vec       u_f;
   DMDAField g, u, d;
-  PetscReal sum_local[3] = {0, 0, 0};
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
+  if (k == 0) c->drag_gas_local[0] = c->drag_gas_local[1] = c->drag_gas_local[2] = 0;
   PetscCall(FluidGetCellDMs(c->fluid, NULL, &da_v));
   PetscCall(FluidGetCellVelocity(c->fluid, &u_f));
   PetscCall(DMDAFieldGet(c->da, c->gas, PETSC_FALSE, &g));
   PetscCall(DMDAFieldGet(c->da, c->deposit, PETSC_FALSE, &d));
   PetscCall(DMDAFieldGet(da_v, u_f, PETSC_FALSE, &u));
-  const PetscReal inv = 1.0 / (PetscReal)(c->ratio[0] * c->ratio[1] * c->ratio[2]);
-  ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt k) {
-    // seed step 2: the gas velocity of a particle cell is the average over its fluid cells
+  const PetscReal inv  = 1.0 / (PetscReal)(c->ratio[0] * c->ratio[1] * c->ratio[2]);
+  const bool      last = k == n - 1;
+  ForOwnedCells(g, [&](PetscInt i, PetscInt j, PetscInt kc) {
+    // seed step 2: the gas velocity of a particle cell is the average over its fluid cells; with n gas steps in one
+    // DEM step (-couple_gas_substeps), also over those steps: the gas received M - B u_s in step s, the mean of which,
+    // M - B u_mean, is exactly minus what the particles then feel (a u_mean - b summed over the cell)
     PetscReal sum[3] = {0, 0, 0};
-    for (PetscInt kk = k * c->ratio[2]; kk < (k + 1) * c->ratio[2]; ++kk)
+    for (PetscInt kk = kc * c->ratio[2]; kk < (kc + 1) * c->ratio[2]; ++kk)
       for (PetscInt jj = j * c->ratio[1]; jj < (j + 1) * c->ratio[1]; ++jj)
         for (PetscInt ii = i * c->ratio[0]; ii < (i + 1) * c->ratio[0]; ++ii)
           for (PetscInt a = 0; a < c->dim; ++a) sum[a] += u(ii, jj, kk, a);
     for (PetscInt a = 0; a < c->dim; ++a) {
-      g(i, j, k, 2 + a) = sum[a] * inv;
-      sum_local[a] += d(i, j, k, 2 + a) - d(i, j, k, 1) * g(i, j, k, 2 + a); // the gas's drag M - B u (eq. 2.21)
+      const PetscReal us = sum[a] * inv;
+      if (n == 1) g(i, j, kc, 2 + a) = us;
+      else g(i, j, kc, 2 + a) = (k == 0 ? 0.0 : g(i, j, kc, 2 + a)) + us / (PetscReal)n;
+      c->drag_gas_local[a] += (d(i, j, kc, 2 + a) - d(i, j, kc, 1) * us) / (PetscReal)n; // the gas's drag M - B u (eq. 2.21)
     }
   });
   PetscCall(DMDAFieldRestore(u_f, &u));
   PetscCall(DMDAFieldRestore(c->deposit, &d));
   PetscCall(DMDAFieldRestore(c->gas, &g));
-  PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_gas, 3, MPIU_REAL, MPI_SUM, c->comm));
-  PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  if (last) {
+    PetscCallMPI(MPI_Allreduce(c->drag_gas_local, c->stats.drag_gas, 3, MPIU_REAL, MPI_SUM, c->comm));
+    PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
+  }
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
   PetscFunctionReturn(0);
 }

@@ -152,3 +152,8 @@ out, s = stopped("courant_soft", jetted, soft + ["-guard_courant", "1", "-guard_
 out, s = ok("courant_gas_substeps", jetted, soft + ["-couple_gas_substeps", "2"])
 t.check(s["guard_figures"]["courant_max"] < 1 and s["fluid"]["steps"] == 2 * s["steps"] and s["model"]["gas_substeps"] == 2,
         "-couple_gas_substeps 2: largest Courant number %.3f, %d gas steps for %d DEM steps" % (s["guard_figures"]["courant_max"], s["fluid"]["steps"], s["steps"]))
+# the particles feel the gas velocity averaged over the DEM step's gas steps: the drag they get is minus what the gas got
+mon = t.table(os.path.join(out, "monitor.csv"))
+scale = np.max(np.abs(mon["drag_particles_y"]))
+bal = max(np.max(np.abs(mon["drag_particles_" + c] + mon["drag_gas_" + c])) for c in ("x", "y")) / scale
+t.check(bal < 1e-12, "-couple_gas_substeps 2: drag on the particles + drag on the gas = 0 to %.1e of the total drag (limit 1e-12)" % bal)
