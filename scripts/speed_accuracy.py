@@ -233,6 +233,8 @@ def muller_profile_rows(rows, out_dir, long_run=None):
         err, unc = profile_difference(os.path.join(out_dir, r["id"]), ref, block)
         out.append({"problem": "muller_profile", "knob": r["knob"], "id": "muller_profile" + r["id"][len("muller"):], "dt_factor": r["dt_factor"],
                     "substeps": r["substeps"], "status": "derived", "error": err, "uncertainty": unc, "cost": r["cost"]})
+        if "kn" in r:  # the stiffness knob's points
+            out[-1]["kn"] = r["kn"]
     return out
 
 
