@@ -372,15 +372,21 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     probs = sorted({r["problem"] for r in rows})
-    fig, axes = plt.subplots(1, len(probs), figsize=(5 * len(probs), 4.5), squeeze=False)
+    ncols = min(4, len(probs))  # a grid of panels, four to a row
+    nrows = (len(probs) + ncols - 1) // ncols
+    fig, axes = plt.subplots(nrows, ncols, figsize=(5 * ncols, 4.5 * nrows), squeeze=False)
+    for ax in axes.flat[len(probs):]:
+        ax.axis("off")
     markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt", "pgrid_ratio"], "osD^vPX*"))
 
     def label(r, knob):
         if knob == "pgrid_ratio":
             return r["cell"].split(", ")[-1]
+        if knob == "kn" and "gas steps" in (r.get("cell") or ""):
+            return "%g, %s" % (r["kn"], r["cell"].split(", ")[-1].replace(" per DEM step", ""))
         return "%s, dt %g" % (r["cell"], r["dt_factor"]) if knob == "cell_dt" else "%g" % r[knob]
 
-    for ax, name in zip(axes[0], probs):
+    for ax, name in zip(axes.flat, probs):
         rs = [r for r in rows if r["problem"] == name and r["error"] == r["error"]]
         for knob in sorted({r["knob"] for r in rs}):
             pts = [r for r in rs if r["knob"] == knob]
@@ -391,7 +397,8 @@ def plot(rows, path):
         ax.plot([r["cost"] for r in front], [max(r["error"], 1e-7) for r in front], "k--", lw=1, label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name in ("muller_window", "muller_profile_window") else
+        ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name in ("muller_window", "muller_profile_window",
+                                                                                              "muller_profile_runs") else
                       "cost: wall s per simulated s per core")
         unc = [r for r in rs if (r.get("uncertainty") or 0) > 0]
         if unc:
