@@ -71,15 +71,20 @@ def point_command(args, outdir, ranks=1, exe=EXE):
 def finished_run(outdir, tail):
     """Whether outdir holds a finished run of this command tail (the executable and its options): its command.json
     (written by study.run) has the same options and a non-negative exit status, and the run was refused at start-up
-    (exit 2) or left a summary.json."""
+    (exit 2) or left a summary.json. A record without an exit status (study.run writes it before the run and completes
+    it after) is a run whose driver stopped first: it counts as finished if the run wrote its summary.json."""
     try:
         with open(os.path.join(outdir, "command.json")) as f:
             meta = json.load(f)
         # the options make the point; the executable that ran it (a copy kept aside while the sources change) is recorded
-        if meta["args"][1:] != tail[1:] or meta["exit_status"] < 0:
+        if meta["args"][1:] != tail[1:]:
+            return False
+        if meta["exit_status"] is None:
+            return os.path.isfile(os.path.join(outdir, "summary.json"))
+        if meta["exit_status"] < 0:
             return False
         return meta["exit_status"] == 2 or os.path.isfile(os.path.join(outdir, "summary.json"))
-    except (OSError, ValueError, KeyError):
+    except (OSError, ValueError, KeyError, TypeError):
         return False
 
 

@@ -27,10 +27,15 @@ def run(args, outdir, ranks=1, exe=_run.EXE, timeout=None, fresh=False):
             meta = json.load(f)
         path = os.path.join(outdir, "summary.json")
         s = json.load(open(path)) if os.path.isfile(path) else None
+        if meta["exit_status"] is None:  # the driver stopped before the run ended: the run's own record
+            return s, s["exit_code"], s["wall_time_setup"] + s["wall_time_run"], True
         return s, meta["exit_status"], meta["wall_s"], True
     if os.path.isdir(outdir):
         shutil.rmtree(outdir)
     os.makedirs(outdir)
+    # the record first, without an exit status: a run that outlives its driver is still known by its options
+    with open(os.path.join(outdir, "command.json"), "w") as f:
+        json.dump({"args": tail, "ranks": ranks, "exit_status": None, "wall_s": None}, f)
     t0 = time.time()
     with open(os.path.join(outdir, "stdout.txt"), "w") as out:
         try:
