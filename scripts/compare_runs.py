@@ -18,6 +18,7 @@ example:
       --json docs/validation/spouted_550_kn100.json --plot docs/validation/spouted_550_kn100.png
 """
 import argparse
+import functools
 import json
 import math
 import os
@@ -47,8 +48,10 @@ def probes(columns):
     return [c for _, c in sorted(found)]
 
 
+@functools.lru_cache(maxsize=None)
 def series(run):
-    """The run's monitor series: time and each of MEASURES (nan where the run has no such column), and max_overlap_rel."""
+    """The run's monitor series: time and each of MEASURES (nan where the run has no such column), and max_overlap_rel;
+    read once per run (the comparison and the plot share it)."""
     path = os.path.join(run, "monitor.csv")
     if not os.path.exists(path):
         die("%s has no monitor.csv: not a fluidbed run directory, or the run has not started" % run)

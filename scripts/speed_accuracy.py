@@ -221,7 +221,7 @@ def muller_profile_rows(rows, out_dir, long_run=None):
     point's (none until that has run)."""
     ref_id = point_id("muller", dict(PROBLEMS["muller"]["defaults"], **MULLER_REFERENCE))
     if long_run:
-        ref, block = (long_run,) if isinstance(long_run, str) else tuple(long_run), MULLER_LONG_BLOCK
+        ref, block = long_run, MULLER_LONG_BLOCK  # one directory or several: profile_difference takes either
     elif any(r["id"] == ref_id and r["status"] == "ok" for r in rows):
         ref, block = os.path.join(out_dir, ref_id), MULLER_BLOCK
     else:

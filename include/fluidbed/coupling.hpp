@@ -36,13 +36,12 @@ struct Coupling;
 // Totals for monitor.csv: drag on the particles and its reaction on the gas (they cancel to round-off), and the
 // void fraction range.
 struct CouplingStats {
-  PetscReal drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
-  PetscReal drag_gas[3]{
-    0, 0, 0}; // the drag the gas received in its last step (the mean over a DEM step's gas steps), M - B u summed over cells, N
-  PetscReal  eps_min = 1, eps_max = 1; // over coupling cells, last DEM step
-  PetscInt64 clamped     = 0;          // cells whose eps hit -couple_eps_min in the last DEM step
-  PetscReal  eps_raw_min = 1;          // the least 1 - solid volume / cell volume before the floor (< 0: overfilled)
-  PetscInt64 cells       = 0;          // coupling cells in all
+  PetscReal  drag_particles[3]{0, 0, 0}; // sum of the drag forces on the particles in the last DEM step, N
+  PetscReal  drag_gas[3]{0, 0, 0};       // the drag the gas received in the last DEM step (mean over its gas steps), N
+  PetscReal  eps_min = 1, eps_max = 1;   // over coupling cells, last DEM step
+  PetscInt64 clamped     = 0;            // cells whose eps hit -couple_eps_min in the last DEM step
+  PetscReal  eps_raw_min = 1;            // the least 1 - solid volume / cell volume before the floor (< 0: overfilled)
+  PetscInt64 cells       = 0;            // coupling cells in all
 };
 
 // Reads -couple_substeps, -couple_gas_substeps, -couple_grid, -couple_eps_min and -drag_model; installs the particles' external-force hook

@@ -9,11 +9,11 @@
 // freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
 // the checkpoints written from them are unchanged too.
 #include "dem_impl.hpp"
-
-#include <cstdint>
 #include "fluidbed/kernels/periodic.hpp"
 
 #include "history_slots.hpp"
+
+#include <cstdint>
 
 namespace fluidbed {
 

@@ -424,9 +424,8 @@ PetscErrorCode CouplingAfterFluidStep(Coupling *c, PetscInt k, PetscInt n)
           for (PetscInt a = 0; a < c->dim; ++a) sum[a] += u(ii, jj, kk, a);
     for (PetscInt a = 0; a < c->dim; ++a) {
       const PetscReal us = sum[a] * inv;
-      if (n == 1) g(i, j, kc, 2 + a) = us;
-      else g(i, j, kc, 2 + a) = (k == 0 ? 0.0 : g(i, j, kc, 2 + a)) + us / (PetscReal)n;
-      c->drag_gas_local[a] += (d(i, j, kc, 2 + a) - d(i, j, kc, 1) * us) / (PetscReal)n; // the gas's drag M - B u (eq. 2.21)
+      g(i, j, kc, 2 + a) = k == 0 ? us / (PetscReal)n : g(i, j, kc, 2 + a) + us / (PetscReal)n; // us / 1 is us, bit for bit
+      c->drag_gas_local[a] += (d(i, j, kc, 2 + a) - d(i, j, kc, 1) * us) / (PetscReal)n;        // the gas's drag M - B u (eq. 2.21)
     }
   });
   PetscCall(DMDAFieldRestore(u_f, &u));
