@@ -31,7 +31,9 @@ struct DemParams {
   PetscReal kn = 800.0, kt = -1.0, e = 0.9, mu = 0.3;                      // particle-particle; kt < 0: kt = kn
   PetscReal wall_kn = -1.0, wall_kt = -1.0, wall_e = -1.0, wall_mu = -1.0; // < 0: same as the particles
   PetscReal dt_factor     = 0.1;                                           // dt = dt_factor * t_cr
-  PetscReal skin          = 0.1;                                           // Verlet skin in largest diameters
+  PetscReal skin          = 0.1;                                           // Verlet skin in largest diameters (the largest)
+  PetscBool skin_adaptive = PETSC_FALSE; // a particle's share of the skin from its speed and the last rebuild interval
+  PetscReal skin_min      = 0.1;         // adaptive skin: the skin of two slow particles, largest diameters
   PetscInt  sort_interval = 0;                                             // rebuilds between storage sorts; 0: automatic
   PetscInt  max_contacts  = 16;                                            // history slots per particle
   PetscBool pseudo2d      = PETSC_FALSE;                                   // 3D: motion confined to the x-y plane

@@ -43,6 +43,7 @@ struct ParticleSystem {
   std::vector<ParticleBody> bodies;
   std::vector<PetscInt64>   body_id;
   std::vector<PetscReal>    x_ref;   // positions at the last rebuild, 3 per local particle
+  std::vector<PetscReal>    x_move;  // how far each local particle may move before its lists are rebuilt (its skin share), m
   std::vector<PetscReal>    impulse; // dashpot impulse corrections of this step, 3 per local particle (N s)
   GhostExchange             ghosts;
   DemStats                  stats;
@@ -65,7 +66,7 @@ PetscErrorCode ParticlesPackBodies(ParticleSystem *ps);
 PetscErrorCode ParticlesGhostsBuild(ParticleSystem *ps);
 PetscErrorCode ParticlesGhostsUpdate(ParticleSystem *ps);
 PetscErrorCode ParticlesGhostsDestroy(GhostExchange *gx);
-// The first half kick and the drift; *need_rebuild when a particle moved half the skin since the last rebuild.
+// The first half kick and the drift; *need_rebuild when a particle moved its share of the skin (x_move) since the last rebuild.
 PetscErrorCode ParticlesKickDrift(ParticleSystem *ps, PetscBool *need_rebuild);
 // The second half kick, with the forces, torques and dashpot impulse corrections of this step.
 PetscErrorCode ParticlesKick(ParticleSystem *ps);

@@ -68,8 +68,15 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   PetscCall(OptionsReal(PetscOptionsObject, "-dt_factor",
                         "Time step as a fraction of the contact duration t_cr (eq. 3.2); above 1 contacts are not resolved", "",
                         RealRange{0.0, 10.0, true, false}, &p->dt_factor, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it", "d",
+  PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it (with -dem_skin_adaptive: the largest skin)", "d",
                         Closed(0.01, 2.0), &p->skin, NULL));
+  PetscCall(OptionsBool(PetscOptionsObject, "-skin_adaptive",
+                        "Adaptive skin: each particle's share of its pairs' skin is its speed at the rebuild times twice the last "
+                        "interval between rebuilds, between half of -dem_skin_min and half of -dem_skin, and the lists are rebuilt "
+                        "when a particle has moved its own share (off: every share is half of -dem_skin). Results do not depend on it",
+                        &p->skin_adaptive, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-skin_min", "Adaptive skin (-dem_skin_adaptive): the skin of two slow particles, at most -dem_skin",
+                        "d", Closed(0.01, 2.0), &p->skin_min, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-sort_interval",
                        "Neighbour-list rebuilds between sorts of the particles' storage by neighbour bin (0: automatic, when a particle "
                        "may have moved one bin since the last sort: 2 (d_max + skin) / skin rebuilds). Results do not depend on it",
@@ -90,6 +97,8 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
     OptionsReal(PetscOptionsObject, "-mu", "Wall friction coefficient (negative: -dem_mu)", "", Closed(-1.0, 10.0), &p->wall_mu, NULL));
   PetscOptionsEnd();
 
+  PetscCheck(!p->skin_adaptive || p->skin_min <= p->skin, comm, PETSC_ERR_USER_INPUT,
+             "-dem_skin_min %g must not exceed -dem_skin %g: the adaptive skin lies between them", (double)p->skin_min, (double)p->skin);
   if (p->kt < 0) p->kt = p->kn;
   if (p->wall_kn < 0) p->wall_kn = p->kn;
   if (p->wall_kt < 0) p->wall_kt = p->kt;

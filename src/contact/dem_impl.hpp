@@ -70,6 +70,8 @@ struct Dem : ParticleSystem {
   NeighbourList                    nl;
   std::vector<ContactContribution> contributions;           // this step's, per pair (ContactPair::out); zero when the pair is apart
   PetscInt                         rebuilds_since_sort = 0; // list rebuilds since the storage was last sorted
+  PetscInt                         steps_since_rebuild = 0; // DEM steps since the lists were last built
+  PetscInt                         rebuild_interval    = 0; // steps between the last two rebuilds the motion asked for; 0: none yet
 };
 
 // Pieces of the contact step (src/contact), exposed for tests and the coupled solver.

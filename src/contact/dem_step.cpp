@@ -102,7 +102,11 @@ PetscErrorCode DemStep(Dem *dem)
     dem->stats.halted = PETSC_TRUE;
     PetscFunctionReturn(0);
   }
-  if (any[0]) PetscCall(Rebuild(dem, PETSC_FALSE));
+  dem->steps_since_rebuild++;
+  if (any[0]) {
+    dem->rebuild_interval = dem->steps_since_rebuild; // the adaptive skin's time scale (neighbour.cpp)
+    PetscCall(Rebuild(dem, PETSC_FALSE));
+  }
   else {
     PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
     PetscCall(ParticlesPackBodies(dem));

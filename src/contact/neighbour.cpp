@@ -34,6 +34,21 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   }
   dem->body_id.resize((std::size_t)ntotal);
 
+  // Each body's share of its pairs' skin: half of -dem_skin or, with the adaptive skin, its speed times twice the
+  // last interval between rebuilds, between the halves of -dem_skin_min and -dem_skin. A pair is listed when its gap
+  // is below the sum of the two shares and the lists hold until a particle has moved its own share, so every contact
+  // stays listed; slow particles in a dense bed keep short lists and the fast ones of a dilute jet long ones, so
+  // the lists last until the fastest particle has moved half of -dem_skin. A particle that kept its speed would
+  // move half its share in the last interval. Ghosts compute their shares from the same velocities as their owners,
+  // so the lists stay symmetric across ranks.
+  std::vector<PetscReal> share((std::size_t)ntotal, 0.5 * skin);
+  dem->steps_since_rebuild = 0;
+  if (dem->par.skin_adaptive && dem->rebuild_interval > 0) {
+    const PetscReal lo = 0.5 * dem->par.skin_min * dem->props->d_max, T = 2.0 * (PetscReal)dem->rebuild_interval * dem->dt;
+    for (PetscInt k = 0; k < ntotal; ++k)
+      share[(std::size_t)k] = PetscMin(PetscMax(kernels::norm(dem->bodies[(std::size_t)k].v) * T, lo), 0.5 * skin);
+  }
+
   // Bins covering the subdomain plus the halo plus drift.
   const PetscReal bin_min = 2.0 * 0.5 * dem->props->d_max + skin;
   PetscReal       origin[3], width[3];
@@ -82,7 +97,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   const int             zr = dim == 3 ? 1 : 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
     const kernels::Vec3 &xi = pos[(std::size_t)i];
-    const PetscReal      ri = dem->bodies[(std::size_t)i].r;
+    const PetscReal      ri = dem->bodies[(std::size_t)i].r, si = share[(std::size_t)i];
     const PetscInt64     id = dem->body_id[(std::size_t)i];
     PetscInt             c[3];
     bin_of(xi, c);
@@ -100,7 +115,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
           for (PetscInt q = bin_start[(std::size_t)b]; q < bin_start[(std::size_t)b + 1]; ++q) {
             const PetscInt j = bin_body[(std::size_t)q];
             if (j == i) continue;
-            const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + skin;
+            const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + (si + share[(std::size_t)j]);
             if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut) partner.push_back(j);
           }
         }
@@ -177,7 +192,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       const int       a   = f / 2;
       const PetscReal xa  = (&b.x.x)[a];
       const PetscReal gap = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
-      if (wall_slot[f] < 0 && !(gap < b.r + skin)) continue;
+      if (wall_slot[f] < 0 && !(gap < b.r + 2.0 * share[(std::size_t)i])) continue;
       nl.walls.push_back({f, wall_slot[f]});
       nl.wall_hist.resize(nl.wall_hist.size() + (std::size_t)nl.hs, 0.0);
       if (wall_slot[f] >= 0) HistoryCopy(p.hs, SlotHistory(p, i, wall_slot[f]), nl.WallHistory((PetscInt)nl.walls.size() - 1));
@@ -214,6 +229,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     for (PetscInt &c : nl.entries) c = 2 * nl.pairs[(std::size_t)(c / 2)].out + c % 2;
   }
   dem->x_ref.resize(3 * (std::size_t)nlocal);
+  dem->x_move.assign(share.begin(), share.begin() + nlocal);
   for (PetscInt i = 0; i < nlocal; ++i)
     for (PetscInt a = 0; a < 3; ++a) dem->x_ref[3 * (std::size_t)i + a] = a < p.dim ? p.x[p.dim * i + a] : 0.0;
   PetscCall(ParticleArraysRestore(dem->swarm, &p));

@@ -56,7 +56,6 @@ PetscErrorCode ParticlesKickDrift(ParticleSystem *ps, PetscBool *need_rebuild)
   const Domain   &dom = *ps->dom;
   const PetscReal dt = ps->dt, h = 0.5 * dt;
   const bool      planar = dom.dim == 2 || ps->pseudo2d;
-  const PetscReal lim2   = 0.25 * ps->skin * ps->skin;
   const PetscReal outlet = dom.top_outlet ? dom.hi[1] : PETSC_MAX_REAL;
   ParticleArrays  p;
   PetscBool       rebuild = PETSC_FALSE;
@@ -87,7 +86,7 @@ PetscErrorCode ParticlesKickDrift(ParticleSystem *ps, PetscBool *need_rebuild)
       const PetscReal dx = kernels::min_image(x - ps->x_ref[3 * i + a], dom.periodic[a] ? dom.len[a] : 0.0);
       d2 += dx * dx;
     }
-    if (d2 > lim2) rebuild = PETSC_TRUE;
+    if (d2 > ps->x_move[(std::size_t)i] * ps->x_move[(std::size_t)i]) rebuild = PETSC_TRUE; // moved its share of the skin
     // a particle past the outlet leaves in this step: the rebuild removes and counts it (ParticlesMigrate)
     if (p.x[dim * i + 1] >= outlet) rebuild = PETSC_TRUE;
     // for the guards: the step's largest move in diameters, and whether the motion is still a number

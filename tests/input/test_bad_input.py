@@ -52,6 +52,8 @@ cases = [
     (["-insert_type", "foo"], ["-insert_type foo", "not one of", "lattice, random, list, file"]),
     (["-fluid", "-drag_model", "foo"], ["-drag_model foo", "ergun_wenyu", "gidaspow"]),
     (["-fluid", "-couple_gas_substeps", "0"], ["-couple_gas_substeps", "out of range", "[1, 1000]"]),
+    (["-dem_skin", "0.3", "-dem_skin_adaptive", "-dem_skin_min", "0.5"], ["-dem_skin_min 0.5", "must not exceed -dem_skin 0.3"]),
+    (["-dem_skin_min", "3"], ["-dem_skin_min", "out of range", "[0.01, 2]"]),
     (["-fluid", "-couple_substeps", "2", "-couple_gas_substeps", "3"], ["-couple_substeps 2", "-couple_gas_substeps 3", "one of them must be 1"]),
     (["-fluid", "-fluid_p_ksp_type", "foo"], ["-fluid_p_ksp_type foo", "KSP type", "bcgs", "cg", "gmres"]),
     (["-fluid", "-fluid_p_pc_type", "bar"], ["-fluid_p_pc_type bar", "PC type", "hypre", "jacobi", "mg"]),
