@@ -34,9 +34,9 @@ struct DemParams {
   PetscReal skin          = 0.1;                                           // Verlet skin in largest diameters (the largest)
   PetscBool skin_adaptive = PETSC_FALSE; // a particle's share of the skin from its speed and the last rebuild interval
   PetscReal skin_min      = 0.1;         // adaptive skin: the skin of two slow particles, largest diameters
-  PetscInt  sort_interval = 0;                                             // rebuilds between storage sorts; 0: automatic
-  PetscInt  max_contacts  = 16;                                            // history slots per particle
-  PetscBool pseudo2d      = PETSC_FALSE;                                   // 3D: motion confined to the x-y plane
+  PetscInt  sort_interval = 0;           // rebuilds between storage sorts; 0: automatic
+  PetscInt  max_contacts  = 16;          // history slots per particle
+  PetscBool pseudo2d      = PETSC_FALSE; // 3D: motion confined to the x-y plane
 
   kernels::LsdModel pp, pw;                  // particle-particle and particle-wall contact models
   PetscReal         t_cr = 0, t_cr_wall = 0; // contact durations of the lightest pair / particle on a wall, s

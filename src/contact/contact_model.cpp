@@ -68,15 +68,18 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   PetscCall(OptionsReal(PetscOptionsObject, "-dt_factor",
                         "Time step as a fraction of the contact duration t_cr (eq. 3.2); above 1 contacts are not resolved", "",
                         RealRange{0.0, 10.0, true, false}, &p->dt_factor, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-skin", "Verlet-list skin; lists are rebuilt when a particle has moved half of it (with -dem_skin_adaptive: the largest skin)", "d",
-                        Closed(0.01, 2.0), &p->skin, NULL));
+  PetscCall(
+    OptionsReal(PetscOptionsObject, "-skin",
+                "Verlet-list skin; lists are rebuilt when a particle has moved half of it (with -dem_skin_adaptive: the largest skin)", "d",
+                Closed(0.01, 2.0), &p->skin, NULL));
   PetscCall(OptionsBool(PetscOptionsObject, "-skin_adaptive",
                         "Adaptive skin: each particle's share of its pairs' skin is its speed at the rebuild times twice the last "
                         "interval between rebuilds, between half of -dem_skin_min and half of -dem_skin, and the lists are rebuilt "
                         "when a particle has moved its own share (off: every share is half of -dem_skin). Results do not depend on it",
                         &p->skin_adaptive, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, "-skin_min", "Adaptive skin (-dem_skin_adaptive): the skin of two slow particles, at most -dem_skin",
-                        "d", Closed(0.01, 2.0), &p->skin_min, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, "-skin_min",
+                        "Adaptive skin (-dem_skin_adaptive): the skin of two slow particles, at most -dem_skin", "d", Closed(0.01, 2.0),
+                        &p->skin_min, NULL));
   PetscCall(OptionsInt(PetscOptionsObject, "-sort_interval",
                        "Neighbour-list rebuilds between sorts of the particles' storage by neighbour bin (0: automatic, when a particle "
                        "may have moved one bin since the last sort: 2 (d_max + skin) / skin rebuilds). Results do not depend on it",

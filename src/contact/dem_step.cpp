@@ -106,8 +106,7 @@ PetscErrorCode DemStep(Dem *dem)
   if (any[0]) {
     dem->rebuild_interval = dem->steps_since_rebuild; // the adaptive skin's time scale (neighbour.cpp)
     PetscCall(Rebuild(dem, PETSC_FALSE));
-  }
-  else {
+  } else {
     PetscCall(PhaseBegin(dem->log, PHASE_GHOSTS));
     PetscCall(ParticlesPackBodies(dem));
     PetscCall(ParticlesGhostsUpdate(dem));

@@ -100,7 +100,8 @@ PetscErrorCode CheckContactsListed(MPI_Comm comm, const Domain &dom, Dem &dem, l
       const PetscReal xa  = (&b.x.x)[a];
       const PetscReal gap = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
       bool            in  = false;
-      for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) in = in || nl.walls[(std::size_t)k].face == f;
+      for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k)
+        in = in || nl.walls[(std::size_t)k].face == f;
       if (gap < b.r && !in) ++local_walls;
     }
   }
@@ -241,14 +242,17 @@ int main(int argc, char **argv)
   PetscCall(ParticlesInsert(comm, sc.dom, sc.grids.particle, sc.props, sc.swarm, &inserted));
   PetscCall(DemSetUp(dem, sc.swarm, PETSC_FALSE));
   PetscCall(CheckLists(comm, sc.dom, *dem, false)); // the lists of the insertion
-  long long unlisted = 0; // touching pairs and walls missing from the lists, summed over the steps
+  long long unlisted = 0;                           // touching pairs and walls missing from the lists, summed over the steps
   for (PetscInt s = 0; s < steps; ++s) {
     long long missing = 0;
     PetscCall(DemStep(dem));
     PetscCall(CheckContactsListed(comm, sc.dom, *dem, &missing));
     unlisted += missing;
   }
-  PetscCall(Check(comm, unlisted == 0, "after every step, each particle within its share of its position at the rebuild, and every touching pair and wall listed (failures, over the steps)", unlisted));
+  PetscCall(Check(comm, unlisted == 0,
+                  "after every step, each particle within its share of its position at the rebuild, and every touching pair and wall "
+                  "listed (failures, over the steps)",
+                  unlisted));
   PetscCall(DemRebuild(dem));
   PetscCall(PetscPrintf(comm, "after %d steps and a rebuild (%lld rebuilds in all):\n", (int)steps, (long long)dem->stats.rebuilds));
   PetscCall(CheckLists(comm, sc.dom, *dem, true));
