@@ -82,6 +82,17 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     std::vector<PetscInt> fill(bin_start.begin(), bin_start.end() - 1);
     for (PetscInt k = 0; k < ntotal; ++k) bin_body[(std::size_t)fill[(std::size_t)body_bin[(std::size_t)k]]++] = k;
   }
+  // The bodies in bin order, each with its reach r + share: the candidate loop below then reads one bin's
+  // candidates from consecutive memory.
+  struct BinnedBody {
+    PetscReal x, y, z, reach;
+  };
+  std::vector<BinnedBody> binned((std::size_t)ntotal);
+  for (PetscInt q = 0; q < ntotal; ++q) {
+    const PetscInt       k = bin_body[(std::size_t)q];
+    const kernels::Vec3 &x = pos[(std::size_t)k];
+    binned[(std::size_t)q] = {x.x, x.y, x.z, dem->bodies[(std::size_t)k].r + share[(std::size_t)k]};
+  }
 
   PetscCall(ParticleArraysGet(dem->swarm, &p));
   for (PetscInt i = 0; i < nlocal; ++i) dem->body_id[(std::size_t)i] = p.id[i];
@@ -94,14 +105,19 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   nl.entries.clear();
   nl.pairs.clear();
   std::vector<PetscInt> partner; // per entry
-  const int             zr = dim == 3 ? 1 : 0;
+  struct Candidate {
+    PetscInt64 id;
+    PetscInt   j;
+  };
+  std::vector<Candidate> found; // one particle's partners, sorted by id (ids are unique)
+  const int              zr = dim == 3 ? 1 : 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const kernels::Vec3 &xi = pos[(std::size_t)i];
-    const PetscReal      ri = dem->bodies[(std::size_t)i].r, si = share[(std::size_t)i];
-    const PetscInt64     id = dem->body_id[(std::size_t)i];
-    PetscInt             c[3];
-    bin_of(xi, c);
-    const std::size_t first = partner.size();
+    const kernels::Vec3 &xi    = pos[(std::size_t)i];
+    const PetscReal      reach = dem->bodies[(std::size_t)i].r + share[(std::size_t)i];
+    const PetscInt64     id    = dem->body_id[(std::size_t)i];
+    const PetscInt       bi    = body_bin[(std::size_t)i];
+    const PetscInt       c[3]  = {bi % nb[0], (bi / nb[0]) % nb[1], bi / (nb[0] * nb[1])};
+    found.clear();
     for (int oz = -zr; oz <= zr; ++oz) {
       const PetscInt cz = c[2] + oz;
       if (cz < 0 || cz >= nb[2]) continue;
@@ -113,19 +129,21 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
           if (cx < 0 || cx >= nb[0]) continue;
           const PetscInt b = cx + nb[0] * (cy + nb[1] * cz);
           for (PetscInt q = bin_start[(std::size_t)b]; q < bin_start[(std::size_t)b + 1]; ++q) {
-            const PetscInt j = bin_body[(std::size_t)q];
-            if (j == i) continue;
-            const PetscReal cut = ri + dem->bodies[(std::size_t)j].r + (si + share[(std::size_t)j]);
-            if (kernels::norm2(pos[(std::size_t)j] - xi) < cut * cut) partner.push_back(j);
+            const BinnedBody &B  = binned[(std::size_t)q];
+            const PetscReal   dx = B.x - xi.x, dy = B.y - xi.y, dz = B.z - xi.z, cut = reach + B.reach;
+            if (dx * dx + dy * dy + dz * dz < cut * cut) {
+              const PetscInt j = bin_body[(std::size_t)q];
+              if (j != i) found.push_back({dem->body_id[(std::size_t)j], j});
+            }
           }
         }
       }
     }
-    std::sort(partner.begin() + (std::ptrdiff_t)first, partner.end(),
-              [&](PetscInt a, PetscInt b) { return dem->body_id[(std::size_t)a] < dem->body_id[(std::size_t)b]; });
-    for (std::size_t e = first; e < partner.size(); ++e) {
-      const PetscInt j = partner[e];
-      if (j < nlocal && dem->body_id[(std::size_t)j] < id) nl.entries.push_back(-1); // the partner's pair: linked below
+    std::sort(found.begin(), found.end(), [](const Candidate &a, const Candidate &b) { return a.id < b.id; });
+    for (const Candidate &c : found) {
+      const PetscInt j = c.j;
+      partner.push_back(j);
+      if (j < nlocal && c.id < id) nl.entries.push_back(-1); // the partner's pair: linked below
       else {
         nl.entries.push_back(2 * (PetscInt)nl.pairs.size());
         nl.pairs.push_back({j, -1, -1, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m)});
@@ -158,32 +176,34 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   nl.wall_start.assign((std::size_t)nlocal + 1, 0);
   nl.walls.clear();
   nl.wall_hist.clear();
-  std::vector<char> used((std::size_t)K);
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
-    std::fill(used.begin(), used.end(), 0);
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      const PetscInt64 pid = dem->body_id[(std::size_t)partner[(std::size_t)e]];
-      const PetscInt   q   = nl.entries[(std::size_t)e] / 2;
-      for (PetscInt s = 0; s < K; ++s)
-        if (key[s] == pid) {
-          ContactPair &pr = nl.pairs[(std::size_t)q];
-          if (nl.entries[(std::size_t)e] % 2) pr.partner_slot = s;
-          else {
-            pr.slot = s;
-            HistoryCopy(p.hs, SlotHistory(p, i, s), nl.PairHistory(q));
-          }
-          used[(std::size_t)s] = 1;
-          break;
-        }
-    }
-    PetscInt wall_slot[FACE_COUNT];
+    PetscInt    wall_slot[FACE_COUNT];
     for (int f = 0; f < FACE_COUNT; ++f) wall_slot[f] = -1;
+    // Each held slot: a wall's, or a partner's found among the entries (sorted by id) by bisection, or freed.
+    const PetscInt e0 = nl.start[(std::size_t)i], e1 = nl.start[(std::size_t)i + 1];
     for (PetscInt s = 0; s < K; ++s) {
       if (key[s] <= -2) {
         if (-2 - key[s] < FACE_COUNT) wall_slot[-2 - key[s]] = s;
-      } else if (key[s] >= 0 && !used[(std::size_t)s]) {
-        HistorySlotFree(p, i, s);
+        continue;
+      }
+      if (key[s] < 0) continue;  // free
+      PetscInt lo = e0, hi = e1; // first entry whose id is not below the key
+      while (lo < hi) {
+        const PetscInt mid = lo + (hi - lo) / 2;
+        if (dem->body_id[(std::size_t)partner[(std::size_t)mid]] < key[s]) lo = mid + 1;
+        else hi = mid;
+      }
+      if (lo == e1 || dem->body_id[(std::size_t)partner[(std::size_t)lo]] != key[s]) {
+        HistorySlotFree(p, i, s); // the partner is no longer listed (it left, or moved beyond the cutoff)
+        continue;
+      }
+      const PetscInt q  = nl.entries[(std::size_t)lo] / 2;
+      ContactPair   &pr = nl.pairs[(std::size_t)q];
+      if (nl.entries[(std::size_t)lo] % 2) pr.partner_slot = s;
+      else {
+        pr.slot = s;
+        HistoryCopy(p.hs, SlotHistory(p, i, s), nl.PairHistory(q));
       }
     }
     const ParticleBody &b = dem->bodies[(std::size_t)i];
