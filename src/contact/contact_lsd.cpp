@@ -96,6 +96,7 @@ struct ForceLoop {
   Vec3                g;
   const WallFace     *wall_of_face; // indexed by face
   Contribution       *contrib;      // per pair, at ContactPair::out
+  unsigned char      *touching;     // per place of contrib: 1 when this step's contribution there is not zero
   const ParticleBody *bodies;
   PetscInt            npairs;
   PetscInt64          contacts;
@@ -138,6 +139,12 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
     const PetscReal dist2 = kernels::norm2(d);
     const PetscReal rsum  = bi.r + bj.r;
     Contribution    c; // zero unless the pair touched
+    if (!(dist2 < rsum * rsum) && pr.slot < 0) {
+      // Apart, as at the last step: its contribution is zero, and the particles skip it instead of adding it (the
+      // same sums, SumParticle). Most listed pairs are apart, so this saves their stores and their sums.
+      L.touching[pr.out] = 0;
+      continue;
+    }
     if (dist2 < rsum * rsum) {
       SlotHistory h;
       if (pr.slot < 0) PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
@@ -159,7 +166,8 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
         pr.partner_slot = -1;
       }
     }
-    L.contrib[pr.out] = c;
+    L.contrib[pr.out]  = c;
+    L.touching[pr.out] = 1;
   }
   PetscFunctionReturn(0);
 }
@@ -208,14 +216,15 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 
   PetscFunctionBeginUser;
   if (nl.wall_start[(std::size_t)i] < nl.wall_start[(std::size_t)i + 1]) PetscCall(SumWalls(L, i, &sum));
-  // Pairs apart add a zero contribution. The sums start at +0 and, with round-to-nearest, a sum is -0 only when
-  // both terms are, so they never become -0: adding a zero (of either sign) leaves them unchanged bit for bit,
-  // as if the pair were skipped. A pair evaluated by the partner adds {-force, n x f_t, -impulse}: -1 * x is -x.
+  // Pairs apart are skipped. Their contribution would be zero; the sums start at +0 and, with round-to-nearest, a
+  // sum is -0 only when both terms are, so they never become -0: adding a zero (of either sign) would leave them
+  // unchanged bit for bit, so skipping the pair gives the same sums as adding it. A pair evaluated by the partner adds {-force, n x f_t, -impulse}: -1 * x is -x.
   // An entry is never negative: unsigned, its halves are a shift and a mask (no sign fix-ups in this hot loop).
   for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-    const auto          code = (std::uint32_t)nl.entries[(std::size_t)e];
-    const Contribution &c    = L.contrib[code >> 1];
-    const PetscReal     s    = kSign[code & 1u];
+    const auto code = (std::uint32_t)nl.entries[(std::size_t)e];
+    if (!L.touching[code >> 1]) continue; // a zero contribution: skipping it is adding it (above)
+    const Contribution &c = L.contrib[code >> 1];
+    const PetscReal     s = kSign[code & 1u];
     sum.F += s * c.force;
     sum.T += bi.r * c.n_cross_ft;
     sum.J += s * c.impulse;
@@ -253,6 +262,7 @@ PetscErrorCode LsdForces(Dem *dem)
   }
   dem->impulse.resize(3 * (std::size_t)nlocal); // every entry is set below
   dem->contributions.resize((std::size_t)nl.ncontrib);
+  dem->touching.resize((std::size_t)nl.ncontrib);
   L.dem      = dem;
   L.nl       = &nl;
   L.nlocal   = nlocal;
@@ -262,6 +272,7 @@ PetscErrorCode LsdForces(Dem *dem)
   L.g            = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
   L.wall_of_face = wall_of_face;
   L.contrib      = dem->contributions.data();
+  L.touching     = dem->touching.data();
   L.bodies       = dem->bodies.data();
   L.npairs       = (PetscInt)nl.pairs.size();
   L.contacts     = 0;
