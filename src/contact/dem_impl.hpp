@@ -27,19 +27,18 @@ struct ContactContribution {
   kernels::Vec3 force, n_cross_ft, impulse;
 };
 
-// A wall the particle may touch before the next rebuild (within r + 2 s of it at the rebuild, s its share of the skin, or holding a
-// history slot for it); its history is kept in the list as a pair's (NeighbourList::wall_hist).
+// A wall the particle may touch before the next rebuild (within r + 2 s of it at the rebuild, s its share of the
+// skin, or holding a history slot for it); its history is kept in the list as a pair's (NeighbourList::wall_hist).
 struct WallContact {
   PetscInt face;
   PetscInt slot; // the particle's history slot for the wall, -1 when not in contact
 };
 
 // Verlet neighbour list. Full: for each local particle, the bodies within r_i + r_j + s_i + s_j (s: the shares of
-// the skin, neighbour.cpp) sorted by id, each
-// entry naming where its pair's contribution is left (2 out: the pair is evaluated by this particle, 2 out + 1: by
-// the partner, and the contribution is mirrored). Half: the pairs each local particle evaluates, in the order of
-// its entries. Walls: the walls each local particle may touch, in face order. The force loop evaluates the
-// particles' pairs in storage order and sums each particle as soon as all its pairs are evaluated: after the
+// the skin, neighbour.cpp) sorted by id, each entry naming where its pair's contribution is left (2 out: the pair is
+// evaluated by this particle, 2 out + 1: by the partner, and the contribution is mirrored). Half: the pairs each
+// local particle evaluates, in the order of its entries. Walls: the walls each local particle may touch, in face
+// order. The force loop evaluates the particles' pairs in storage order and sums each particle as soon as all its pairs are evaluated: after the
 // pairs of particle i, the particles finish[finish_start[i]] .. finish[finish_start[i + 1] - 1]. Most
 // contributions are read soon after they are written, so they share a ring of kContributionRing places, which
 // stays in cache; the pairs whose contributions are read later than that have places of their own after it.
