@@ -38,10 +38,11 @@ struct WallContact {
 // the skin, neighbour.cpp) sorted by id, each entry naming where its pair's contribution is left (2 out: the pair is
 // evaluated by this particle, 2 out + 1: by the partner, and the contribution is mirrored). Half: the pairs each
 // local particle evaluates, in the order of its entries. Walls: the walls each local particle may touch, in face
-// order. The force loop evaluates the particles' pairs in storage order and sums each particle as soon as all its pairs are evaluated: after the
-// pairs of particle i, the particles finish[finish_start[i]] .. finish[finish_start[i + 1] - 1]. Most
-// contributions are read soon after they are written, so they share a ring of kContributionRing places, which
-// stays in cache; the pairs whose contributions are read later than that have places of their own after it.
+// order. The force loop evaluates the particles' pairs in storage order and sums each particle as soon as all its
+// pairs are evaluated: after the pairs of particle i, the particles finish[finish_start[i]] ..
+// finish[finish_start[i + 1] - 1]. Most contributions are read soon after they are written, so they share a ring of
+// kContributionRing places, which stays in cache; the pairs whose contributions are read later than that have places
+// of their own after it.
 constexpr PetscInt kContributionRing = 8192; // a power of 2
 struct NeighbourList {
   std::vector<PetscInt>    start;      // nlocal + 1 offsets into entries
