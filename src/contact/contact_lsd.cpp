@@ -138,7 +138,7 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
     }
     const PetscReal dist2 = kernels::norm2(d);
     const PetscReal rsum  = bi.r + bj.r;
-    Contribution    c; // zero unless the pair touched
+    Contribution    c; // the contact's, or the closing dashpot impulse of a contact that just ended
     if (!(dist2 < rsum * rsum) && pr.slot < 0) {
       // Apart, as at the last step: its contribution is zero, and the particles skip it instead of adding it (the
       // same sums, SumParticle). Most listed pairs are apart, so this saves their stores and their sums.
@@ -155,7 +155,7 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
       Store(h, hq);
       L.contacts += j_local ? 2 : 1;
       L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
-    } else if (pr.slot >= 0) {
+    } else { // apart now, in contact at the last step
       c = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, Load(hq));
       HistorySlotFree(L.p, i, pr.slot);
       pr.slot = -1;
@@ -173,8 +173,9 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 }
 
 // The walls of particle i's list, summed into sum in face order: the others were more than r + 2 s away at the last
-// rebuild (s: the particle's share of the skin), and no particle moves its share before the next (ParticlesKickDrift). Out of line: most
-// particles have no wall near, and the pair sums of SumParticle keep their registers without this code.
+// rebuild (s: the particle's share of the skin), and no particle moves its share before the next (ParticlesKickDrift).
+// Out of line: most particles have no wall near, and the pair sums of SumParticle keep their registers without this
+// code.
 [[gnu::noinline]] PetscErrorCode SumWalls(ForceLoop &L, PetscInt i, Sums *sum)
 {
   const ParticleBody &bi = L.bodies[i];
@@ -218,8 +219,9 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   if (nl.wall_start[(std::size_t)i] < nl.wall_start[(std::size_t)i + 1]) PetscCall(SumWalls(L, i, &sum));
   // Pairs apart are skipped. Their contribution would be zero; the sums start at +0 and, with round-to-nearest, a
   // sum is -0 only when both terms are, so they never become -0: adding a zero (of either sign) would leave them
-  // unchanged bit for bit, so skipping the pair gives the same sums as adding it. A pair evaluated by the partner adds {-force, n x f_t,
-  // -impulse}: -1 * x is -x. An entry is never negative: unsigned, its halves are a shift and a mask (no sign fix-ups in this hot loop).
+  // unchanged bit for bit, so skipping the pair gives the same sums as adding it. A pair evaluated by the partner
+  // adds {-force, n x f_t, -impulse}: -1 * x is -x. An entry is never negative: unsigned, its halves are a shift and
+  // a mask (no sign fix-ups in this hot loop).
   for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
     const auto code = (std::uint32_t)nl.entries[(std::size_t)e];
     if (!L.touching[code >> 1]) continue; // a zero contribution: skipping it is adding it (above)

@@ -39,6 +39,7 @@ PetscErrorCode Rebuild(Dem *dem, PetscBool force_sort)
   PetscCall(PhaseBegin(dem->log, PHASE_NEIGHBOUR));
   PetscCall(DemNeighbourBuild(dem));
   PetscCall(PhaseEnd(dem->log, PHASE_NEIGHBOUR));
+  dem->steps_since_rebuild = 0;
   PetscFunctionReturn(0);
 }
 

@@ -42,7 +42,6 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   // move half its share in the last interval. Ghosts compute their shares from the same velocities as their owners,
   // so the lists stay symmetric across ranks.
   std::vector<PetscReal> share((std::size_t)ntotal, 0.5 * skin);
-  dem->steps_since_rebuild = 0;
   if (dem->par.skin_adaptive && dem->rebuild_interval > 0) {
     const PetscReal lo = 0.5 * dem->par.skin_min * dem->props->d_max, T = 2.0 * (PetscReal)dem->rebuild_interval * dem->dt;
     for (PetscInt k = 0; k < ntotal; ++k)
@@ -187,13 +186,10 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
         if (-2 - key[s] < FACE_COUNT) wall_slot[-2 - key[s]] = s;
         continue;
       }
-      if (key[s] < 0) continue;  // free
-      PetscInt lo = e0, hi = e1; // first entry whose id is not below the key
-      while (lo < hi) {
-        const PetscInt mid = lo + (hi - lo) / 2;
-        if (dem->body_id[(std::size_t)partner[(std::size_t)mid]] < key[s]) lo = mid + 1;
-        else hi = mid;
-      }
+      if (key[s] < 0) continue; // free
+      const auto     at = std::lower_bound(partner.begin() + e0, partner.begin() + e1, key[s],
+                                           [&](PetscInt j, PetscInt64 k) { return dem->body_id[(std::size_t)j] < k; });
+      const PetscInt lo = (PetscInt)(at - partner.begin());
       if (lo == e1 || dem->body_id[(std::size_t)partner[(std::size_t)lo]] != key[s]) {
         HistorySlotFree(p, i, s); // the partner is no longer listed (it left, or moved beyond the cutoff)
         continue;

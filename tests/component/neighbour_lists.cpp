@@ -53,6 +53,23 @@ PetscErrorCode GatherBodies(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std:
   PetscFunctionReturn(0);
 }
 
+// Every rank's half lists, on every rank, as (a, b, kind) triples: kind 0 a local-local pair, 1 seen from a through
+// a ghost.
+PetscErrorCode GatherListedPairs(MPI_Comm comm, const Dem &dem, PetscInt nlocal, std::vector<PetscInt64> *triples)
+{
+  const NeighbourList    &nl = dem.nl;
+  std::vector<PetscInt64> mine;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
+      const PetscInt j = nl.pairs[(std::size_t)q].partner;
+      mine.insert(mine.end(), {dem.body_id[(std::size_t)i], dem.body_id[(std::size_t)j], j < nlocal ? 0 : 1});
+    }
+  PetscCall(AllGather(comm, MPIU_INT64, mine, triples));
+  PetscFunctionReturn(0);
+}
+
 // The pairs (smaller id, larger id) of all bodies closer than cut(a, b), minimum image along periodic axes.
 template <class Cut>
 std::set<std::pair<PetscInt64, PetscInt64>> PairsWithin(const Domain &dom, const std::vector<Body> &all, Cut cut)
@@ -80,18 +97,15 @@ PetscErrorCode CheckContactsListed(MPI_Comm comm, const Domain &dom, Dem &dem, l
   const PetscInt          nlocal = (PetscInt)dem.bodies.size() - dem.ghosts.n;
   const NeighbourList    &nl     = dem.nl;
   std::vector<Body>       all;
-  std::vector<PetscInt64> mine, listed_flat;
+  std::vector<PetscInt64> triples;
 
   PetscFunctionBeginUser;
   PetscCall(GatherBodies(comm, dem, nlocal, &all));
-  for (PetscInt i = 0; i < nlocal; ++i)
-    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q)
-      mine.insert(mine.end(), {dem.body_id[(std::size_t)i], dem.body_id[(std::size_t)nl.pairs[(std::size_t)q].partner]});
-  PetscCall(AllGather(comm, MPIU_INT64, mine, &listed_flat));
+  PetscCall(GatherListedPairs(comm, dem, nlocal, &triples));
   std::set<std::pair<PetscInt64, PetscInt64>> listed;
-  for (std::size_t k = 0; k < listed_flat.size(); k += 2)
-    listed.insert({std::min(listed_flat[k], listed_flat[k + 1]), std::max(listed_flat[k], listed_flat[k + 1])});
-  long long local_walls = 0; // walls missing, and particles beyond their share
+  for (std::size_t k = 0; k < triples.size(); k += 3)
+    listed.insert({std::min(triples[k], triples[k + 1]), std::max(triples[k], triples[k + 1])});
+  long long local[2] = {0, 0}, global[2]; // walls touched but not listed; particles beyond their share
   for (PetscInt i = 0; i < nlocal; ++i) {
     const ParticleBody &b = dem.bodies[(std::size_t)i];
     for (PetscInt f = 0; f < 2 * dom.dim; ++f) {
@@ -102,7 +116,7 @@ PetscErrorCode CheckContactsListed(MPI_Comm comm, const Domain &dom, Dem &dem, l
       bool            in  = false;
       for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k)
         in = in || nl.walls[(std::size_t)k].face == f;
-      if (gap < b.r && !in) ++local_walls;
+      if (gap < b.r && !in) ++local[0];
     }
   }
   // The invariant that keeps them listed: no particle has moved more than its share since the lists were built.
@@ -113,13 +127,13 @@ PetscErrorCode CheckContactsListed(MPI_Comm comm, const Domain &dom, Dem &dem, l
       const PetscReal d = kernels::min_image(xb[a] - dem.x_ref[3 * (std::size_t)i + a], dom.periodic[a] ? dom.len[a] : 0.0);
       d2 += d * d;
     }
-    if (d2 > dem.x_move[(std::size_t)i] * dem.x_move[(std::size_t)i]) ++local_walls;
+    if (d2 > dem.x_move[(std::size_t)i] * dem.x_move[(std::size_t)i]) ++local[1];
   }
-  long long pairs_missing = 0, walls_missing = 0;
+  long long pairs_missing = 0;
   for (const auto &e : PairsWithin(dom, all, [](const Body &a, const Body &b) { return a.r + b.r; }))
     if (!listed.count(e)) ++pairs_missing;
-  PetscCallMPI(MPI_Allreduce(&local_walls, &walls_missing, 1, MPI_LONG_LONG, MPI_SUM, comm));
-  *missing = pairs_missing + walls_missing;
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_LONG_LONG, MPI_SUM, comm));
+  *missing = pairs_missing + global[0] + global[1];
   PetscFunctionReturn(0);
 }
 
@@ -142,25 +156,20 @@ PetscErrorCode CheckLists(MPI_Comm comm, const Domain &dom, Dem &dem, bool movin
     partners_of[e.second]++;
   }
 
-  // this rank's half lists as (a, b, kind) triples, and the full lists' sizes
-  std::vector<PetscInt64> mine;
-  bool                    full_ok  = true;
-  PetscInt64              full_bad = -1;
+  // the full lists' sizes
+  bool       full_ok  = true;
+  PetscInt64 full_bad = -1;
   for (PetscInt i = 0; i < nlocal; ++i) {
-    const PetscInt64 id = dem.body_id[(std::size_t)i];
-    for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
-      const PetscInt j = nl.pairs[(std::size_t)q].partner;
-      mine.insert(mine.end(), {id, dem.body_id[(std::size_t)j], j < nlocal ? 0 : 1});
-    }
-    const PetscInt listed = nl.start[(std::size_t)i + 1] - nl.start[(std::size_t)i];
-    const auto     it     = partners_of.find(id);
+    const PetscInt64 id     = dem.body_id[(std::size_t)i];
+    const PetscInt   listed = nl.start[(std::size_t)i + 1] - nl.start[(std::size_t)i];
+    const auto       it     = partners_of.find(id);
     if (listed != (it == partners_of.end() ? 0 : it->second) && full_ok) {
       full_ok  = false;
       full_bad = id;
     }
   }
   std::vector<PetscInt64> triples;
-  PetscCall(AllGather(comm, MPIU_INT64, mine, &triples)); // (a, b, kind): kind 0 a local-local pair, 1 seen from a through a ghost
+  PetscCall(GatherListedPairs(comm, dem, nlocal, &triples));
   std::map<std::pair<PetscInt64, PetscInt64>, std::vector<PetscInt64>> seen; // pair (min, max) -> (from, kind)...
   for (std::size_t k = 0; k < triples.size(); k += 3) {
     const PetscInt64 a = triples[k], b = triples[k + 1];
