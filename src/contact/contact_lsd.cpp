@@ -3,17 +3,26 @@
 // lists, calls the kernel, restores. Each particle sums walls first (in face
 // order) and then partners in increasing id, so the result does not depend on the decomposition.
 //
-// One sweep over the particles in storage order: each evaluates the pairs it holds in the half list (their
-// histories are kept there, next to the list, between rebuilds), and every particle whose pairs are then all
-// evaluated sums its walls and contributions (dem.hpp, NeighbourList). The swarm's history slots are taken and
-// freed in the same order as when every pair was evaluated first and the particles summed afterwards, so they and
-// the checkpoints written from them are unchanged too.
+// One sweep over the particles in storage order: each visits the pairs it holds in the half list (their histories
+// are kept there, next to the list, between rebuilds) and gathers those in contact into SIMD lanes; once 64 are
+// gathered (or 512 pairs visited) the lanes are evaluated, and every particle whose pairs are then all evaluated sums
+// its walls and contributions (dem.hpp, NeighbourList). The swarm's history slots are taken and freed in the same
+// order as when every pair was evaluated first and the particles summed afterwards, so they and the checkpoints
+// written from them are unchanged too.
 #include "dem_impl.hpp"
 #include "fluidbed/kernels/periodic.hpp"
 
 #include "history_slots.hpp"
 
 #include <cstdint>
+
+// Functions built for AVX-512, AVX2 and the baseline on x86-64, the loader picking the widest the core has (GCC's
+// function multiversioning); one build elsewhere.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FLUIDBED_SIMD_CLONES [[gnu::target_clones("avx512f", "avx2", "default")]]
+#else
+#define FLUIDBED_SIMD_CLONES
+#endif
 
 namespace fluidbed {
 
@@ -84,6 +93,59 @@ struct Sums {
   }
 };
 
+// Touching pairs gathered for evaluation in SIMD lanes, a structure of arrays: what eq. 2.3-2.10 take from the
+// pair's bodies, the pair's history (in, and out in the same places), its contribution and relative overlap out,
+// and where the contribution and the history go.
+struct PairLanes {
+  enum Field {
+    DX,
+    DY,
+    DZ,
+    DIST2,
+    RSUM,
+    RMIN,
+    DVX,
+    DVY,
+    DVZ,
+    WX,
+    WY,
+    WZ,
+    SQRT_MEFF,
+    XIX,
+    XIY,
+    XIZ,
+    OVERLAP,
+    DAMPING,
+    FX,
+    FY,
+    FZ,
+    CX,
+    CY,
+    CZ,
+    JX,
+    JY,
+    JZ,
+    REL,
+    NFIELD
+  };
+  PetscInt                 cap = 0, n = 0;
+  std::vector<PetscReal>   data; // NFIELD x cap
+  std::vector<PetscInt>    out;  // the pair's place in the contributions
+  std::vector<PetscReal *> hist; // the pair's history in the list
+  PetscReal               *f[NFIELD];
+  void                     Resize(PetscInt c)
+  {
+    cap = c;
+    data.assign((std::size_t)(NFIELD * c), 0.0);
+    out.resize((std::size_t)c);
+    hist.resize((std::size_t)c);
+    for (int k = 0; k < NFIELD; ++k) f[k] = data.data() + (std::size_t)k * (std::size_t)c;
+  }
+};
+// The lanes are evaluated once this many are gathered, or once this many pairs have been visited since the last
+// evaluation; the contribution ring allows for the second (kLanePairsVisited, dem_impl.hpp).
+constexpr PetscInt kLanes = 64;
+
 // The state of one force evaluation, shared by the per-particle steps below.
 struct ForceLoop {
   Dem                *dem;
@@ -101,36 +163,95 @@ struct ForceLoop {
   PetscInt            npairs;
   PetscInt64          contacts;
   PetscReal           max_rel;
+  PairLanes           lanes;
 };
 
 constexpr PetscInt  kPrefetchPairs = 8;
 constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 
-// Evaluates the pairs particle i holds in the half list (the smaller id of two local particles, the local side
-// of a pair with a ghost). The pair's history lives in the list; the swarm's slots are taken and freed here as
-// contacts begin and end (DemSyncPairHistory stores the histories in them before particles move).
-[[gnu::always_inline]] inline PetscErrorCode EvaluatePairs(ForceLoop &L, PetscInt i)
+// Eq. 2.3-2.10 for the gathered pairs, one per lane: the same kernel and the same operations as Evaluate for one
+// contact, so the results are bit for bit those of evaluating each pair alone (the build does not contract a * b + c
+// into fused multiply-adds, -ffp-contract=off). Built for AVX-512, AVX2 and the baseline; the loader picks the widest the
+// core has.
+FLUIDBED_SIMD_CLONES void EvaluateLanes(const kernels::LsdModel &m, PetscReal dt, PetscInt n, PetscReal *const *f)
 {
+  using F                        = PairLanes;
+  const PetscReal *__restrict dx = f[F::DX], *__restrict dy = f[F::DY], *__restrict dz = f[F::DZ], *__restrict dist2 = f[F::DIST2];
+  const PetscReal *__restrict rsum = f[F::RSUM], *__restrict rmin = f[F::RMIN], *__restrict sqrt_meff = f[F::SQRT_MEFF];
+  const PetscReal *__restrict dvx = f[F::DVX], *__restrict dvy = f[F::DVY], *__restrict dvz = f[F::DVZ];
+  const PetscReal *__restrict wx = f[F::WX], *__restrict wy = f[F::WY], *__restrict wz = f[F::WZ];
+  PetscReal *__restrict xix = f[F::XIX], *__restrict xiy = f[F::XIY], *__restrict xiz = f[F::XIZ];
+  PetscReal *__restrict ov = f[F::OVERLAP], *__restrict damp = f[F::DAMPING];
+  PetscReal *__restrict fx = f[F::FX], *__restrict fy = f[F::FY], *__restrict fz = f[F::FZ];
+  PetscReal *__restrict cx = f[F::CX], *__restrict cy = f[F::CY], *__restrict cz = f[F::CZ];
+  PetscReal *__restrict jx = f[F::JX], *__restrict jy = f[F::JY], *__restrict jz = f[F::JZ], *__restrict rel = f[F::REL];
+#pragma GCC ivdep
+  for (PetscInt k = 0; k < n; ++k) {
+    const kernels::ContactKinematics kin = kernels::pair_kinematics_from({dx[k], dy[k], dz[k]}, std::sqrt(dist2[k]), rsum[k],
+                                                                         {dvx[k], dvy[k], dvz[k]}, {wx[k], wy[k], wz[k]}, sqrt_meff[k]);
+    SlotHistory                      h{{xix[k], xiy[k], xiz[k]}, ov[k], damp[k]};
+    const Contribution               c = Evaluate(m, kin, dt, h);
+    xix[k]                             = h.xi.x;
+    xiy[k]                             = h.xi.y;
+    xiz[k]                             = h.xi.z;
+    ov[k]                              = h.overlap;
+    damp[k]                            = h.damping;
+    fx[k]                              = c.force.x;
+    fy[k]                              = c.force.y;
+    fz[k]                              = c.force.z;
+    cx[k]                              = c.n_cross_ft.x;
+    cy[k]                              = c.n_cross_ft.y;
+    cz[k]                              = c.n_cross_ft.z;
+    jx[k]                              = c.impulse.x;
+    jy[k]                              = c.impulse.y;
+    jz[k]                              = c.impulse.z;
+    rel[k]                             = kin.overlap / (2.0 * rmin[k]);
+  }
+}
+
+// Evaluates the gathered lanes and puts their contributions and histories in place.
+void FlushLanes(ForceLoop &L)
+{
+  PairLanes &b = L.lanes;
+  using F      = PairLanes;
+  EvaluateLanes(L.dem->par.pp, L.dt, b.n, b.f);
+  PetscReal *const *f = b.f;
+  for (PetscInt k = 0; k < b.n; ++k) {
+    L.contrib[b.out[(std::size_t)k]] = {
+      {f[F::FX][k], f[F::FY][k], f[F::FZ][k]}, {f[F::CX][k], f[F::CY][k], f[F::CZ][k]}, {f[F::JX][k], f[F::JY][k], f[F::JZ][k]}};
+    Store({{f[F::XIX][k], f[F::XIY][k], f[F::XIZ][k]}, f[F::OVERLAP][k], f[F::DAMPING][k]}, b.hist[(std::size_t)k]);
+    L.max_rel = PetscMax(L.max_rel, f[F::REL][k]);
+  }
+  b.n = 0;
+}
+
+// Visits the pairs particle i holds in the half list (the smaller id of two local particles, the local side of a
+// pair with a ghost) and gathers those in contact into the lanes. The pair's history lives in the list; the swarm's
+// slots are taken and freed here as contacts begin and end (DemSyncPairHistory stores the histories in them before
+// particles move).
+[[gnu::always_inline]] inline PetscErrorCode GatherPairs(ForceLoop &L, PetscInt i)
+{
+  using F                         = PairLanes;
   const ParticleBody      &bi     = L.bodies[i];
   const PetscInt           nlocal = L.nlocal;
-  const PetscReal          dt     = L.dt;
   const kernels::LsdModel &pp     = L.dem->par.pp;
   const PetscInt           q0 = L.nl->pair_start[(std::size_t)i], q1 = L.nl->pair_start[(std::size_t)i + 1];
   ContactPair             *pairs = L.nl->pairs.data();
   PetscReal               *hq    = L.nl->pair_hist.data() + kLsdHistory * (std::size_t)q0; // pair q's history
+  PairLanes               &b     = L.lanes;
+  PetscReal *const        *f     = b.f;
 
   PetscFunctionBeginUser;
   for (PetscInt q = q0; q < q1; ++q, hq += kLsdHistory) {
     if (q + kPrefetchPairs < L.npairs) { // the partner of a pair a few ahead: its body is a likely cache miss
-      const char *b = reinterpret_cast<const char *>(&L.bodies[pairs[q + kPrefetchPairs].partner]);
-      __builtin_prefetch(b);
-      __builtin_prefetch(b + sizeof(ParticleBody) - 1);
+      const char *pb = reinterpret_cast<const char *>(&L.bodies[pairs[q + kPrefetchPairs].partner]);
+      __builtin_prefetch(pb);
+      __builtin_prefetch(pb + sizeof(ParticleBody) - 1);
     }
-    ContactPair        &pr      = pairs[q];
-    const PetscInt      j       = pr.partner;
-    const bool          j_local = j < nlocal;
-    const ParticleBody &bj      = L.bodies[j];
-    Vec3                d       = bj.x - bi.x;
+    ContactPair        &pr = pairs[q];
+    const PetscInt      j  = pr.partner;
+    const ParticleBody &bj = L.bodies[j];
+    Vec3                d  = bj.x - bi.x;
     if (L.periodic) {
       d.x = kernels::min_image(d.x, L.period[0]);
       d.y = kernels::min_image(d.y, L.period[1]);
@@ -138,36 +259,55 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
     }
     const PetscReal dist2 = kernels::norm2(d);
     const PetscReal rsum  = bi.r + bj.r;
-    Contribution    c; // the contact's, or the closing dashpot impulse of a contact that just ended
-    if (!(dist2 < rsum * rsum) && pr.slot < 0) {
+    if (dist2 < rsum * rsum) {
+      const PetscInt k = b.n++;
+      if (pr.slot < 0) {
+        PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
+        f[F::XIX][k] = f[F::XIY][k] = f[F::XIZ][k] = f[F::OVERLAP][k] = f[F::DAMPING][k] = 0.0;
+      } else {
+        f[F::XIX][k]     = hq[0];
+        f[F::XIY][k]     = hq[1];
+        f[F::XIZ][k]     = hq[2];
+        f[F::OVERLAP][k] = hq[3];
+        f[F::DAMPING][k] = hq[4];
+      }
+      const Vec3 dv = bi.v - bj.v, ws = bi.r * bi.w + bj.r * bj.w; // as pair_kinematics forms them
+      f[F::DX][k]            = d.x;
+      f[F::DY][k]            = d.y;
+      f[F::DZ][k]            = d.z;
+      f[F::DIST2][k]         = dist2;
+      f[F::RSUM][k]          = rsum;
+      f[F::RMIN][k]          = PetscMin(bi.r, bj.r);
+      f[F::DVX][k]           = dv.x;
+      f[F::DVY][k]           = dv.y;
+      f[F::DVZ][k]           = dv.z;
+      f[F::WX][k]            = ws.x;
+      f[F::WY][k]            = ws.y;
+      f[F::WZ][k]            = ws.z;
+      f[F::SQRT_MEFF][k]     = pr.sqrt_meff;
+      b.out[(std::size_t)k]  = pr.out;
+      b.hist[(std::size_t)k] = hq;
+      L.touching[pr.out]     = 1;
+      L.contacts += j < nlocal ? 2 : 1;
+      continue;
+    }
+    if (pr.slot < 0) {
       // Apart, as at the last step: its contribution is zero, and the particles skip it instead of adding it (the
       // same sums, SumParticle). Most listed pairs are apart, so this saves their stores and their sums.
       L.touching[pr.out] = 0;
       continue;
     }
-    if (dist2 < rsum * rsum) {
-      SlotHistory h;
-      if (pr.slot < 0) PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
-      else h = Load(hq);
-      const kernels::ContactKinematics kin =
-        kernels::pair_kinematics(d, PetscSqrtReal(dist2), bi.r, bj.r, bi.v, bj.v, bi.w, bj.w, pr.sqrt_meff);
-      c = Evaluate(pp, kin, dt, h);
-      Store(h, hq);
-      L.contacts += j_local ? 2 : 1;
-      L.max_rel = PetscMax(L.max_rel, kin.overlap / (2.0 * PetscMin(bi.r, bj.r)));
-    } else { // apart now, in contact at the last step
-      c = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, dt, Load(hq));
-      HistorySlotFree(L.p, i, pr.slot);
-      pr.slot = -1;
-      // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more
-      // slots than it has contacts
-      if (pr.partner_slot >= 0) {
-        HistorySlotFree(L.p, j, pr.partner_slot);
-        pr.partner_slot = -1;
-      }
-    }
-    L.contrib[pr.out]  = c;
+    // Apart now, in contact at the last step: the closing dashpot impulse.
+    L.contrib[pr.out]  = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, L.dt, Load(hq));
     L.touching[pr.out] = 1;
+    HistorySlotFree(L.p, i, pr.slot);
+    pr.slot = -1;
+    // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more slots
+    // than it has contacts
+    if (pr.partner_slot >= 0) {
+      HistorySlotFree(L.p, j, pr.partner_slot);
+      pr.partner_slot = -1;
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -222,15 +362,29 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   // unchanged bit for bit, so skipping the pair gives the same sums as adding it. A pair evaluated by the partner
   // adds {-force, n x f_t, -impulse}: -1 * x is -x. An entry is never negative: unsigned, its halves are a shift and
   // a mask (no sign fix-ups in this hot loop).
+  // The nine reals of a contribution (force, n x f_t, impulse) in three vectors of four, each entry multiplied by
+  // (s, s, s, r), (r, r, s, s) and s: the same products and sums as sum.F += s f, sum.T += r n x f_t, sum.J += s J.
+  using V4 = double __attribute__((vector_size(32)));
+  static_assert(sizeof(Contribution) == 9 * sizeof(double), "a contribution is nine reals");
+  const double r     = bi.r;
+  const V4     mA[2] = {{1.0, 1.0, 1.0, r}, {-1.0, -1.0, -1.0, r}}, mB[2] = {{r, r, 1.0, 1.0}, {r, r, -1.0, -1.0}};
+  V4           A = {sum.F.x, sum.F.y, sum.F.z, sum.T.x}, B = {sum.T.y, sum.T.z, sum.J.x, sum.J.y};
+  double       C = sum.J.z;
   for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
     const auto code = (std::uint32_t)nl.entries[(std::size_t)e];
     if (!L.touching[code >> 1]) continue; // a zero contribution: skipping it is adding it (above)
-    const Contribution &c = L.contrib[code >> 1];
-    const PetscReal     s = kSign[code & 1u];
-    sum.F += s * c.force;
-    sum.T += bi.r * c.n_cross_ft;
-    sum.J += s * c.impulse;
+    const double  *c = &L.contrib[code >> 1].force.x;
+    const unsigned m = code & 1u;
+    V4             a, b;
+    __builtin_memcpy(&a, c, sizeof a);
+    __builtin_memcpy(&b, c + 4, sizeof b);
+    A += mA[m] * a;
+    B += mB[m] * b;
+    C += kSign[m] * c[8];
   }
+  sum.F = {A[0], A[1], A[2]};
+  sum.T = {A[3], B[0], B[1]};
+  sum.J = {B[2], B[3], C};
 
   sum.F += bi.m * L.g; // gravity, reduced by buoyancy when the gas is on (eq. 2.1)
   PetscReal *f = &L.p.f[3 * i], *t = &L.p.t[3 * i], *J = &L.dem->impulse[3 * (std::size_t)i];
@@ -246,8 +400,9 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
   PetscFunctionReturn(0);
 }
 
-// ContactModel::forces of the linear spring-dashpot.
-PetscErrorCode LsdForces(Dem *dem)
+// ContactModel::forces of the linear spring-dashpot. Built for AVX-512, AVX2 and the baseline like EvaluateLanes: the
+// particles' sums run in vectors of four reals.
+FLUIDBED_SIMD_CLONES PetscErrorCode LsdForces(Dem *dem)
 {
   const Domain  &dom    = *dem->dom;
   NeighbourList &nl     = dem->nl;
@@ -283,13 +438,20 @@ PetscErrorCode LsdForces(Dem *dem)
   PetscCall(ParticleArraysGet(dem->swarm, &L.p));
   PetscCheck(L.p.hs == kLsdHistory && nl.hs == kLsdHistory, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "lsd contacts keep %d history reals, the swarm and lists hold %d and %d", (int)kLsdHistory, (int)L.p.hs, (int)nl.hs);
-  // Each pair once, in the storage order of the particles that evaluate it; each particle summed right after
-  // the last of its pairs is evaluated. Its sums do not depend on when that is, and each particle's slots are
-  // taken and freed in the same order: by its pairs (in the order they are evaluated), then by its walls.
+  // Each pair once, in the storage order of the particles that evaluate it; each particle summed once the lanes that
+  // hold the last of its pairs are evaluated. Its sums do not depend on when that is, and each particle's slots are
+  // taken and freed in the same order: by its pairs (in the order they are visited), then by its walls.
+  if (L.lanes.cap < kLanes + nl.max_pairs) L.lanes.Resize(kLanes + nl.max_pairs);
+  PetscInt summed = 0, visited = 0; // particles [0, summed) are summed; pairs visited since the lanes were last evaluated
   for (PetscInt i = 0; i < nlocal; ++i) {
-    PetscCall(EvaluatePairs(L, i));
-    for (PetscInt k = nl.finish_start[(std::size_t)i]; k < nl.finish_start[(std::size_t)i + 1]; ++k)
+    PetscCall(GatherPairs(L, i));
+    visited += nl.pair_start[(std::size_t)i + 1] - nl.pair_start[(std::size_t)i];
+    if (i + 1 < nlocal && L.lanes.n < kLanes && visited < kLanePairsVisited) continue;
+    FlushLanes(L);
+    for (PetscInt k = nl.finish_start[(std::size_t)summed]; k < nl.finish_start[(std::size_t)i + 1]; ++k)
       PetscCall(SumParticle(L, nl.finish[(std::size_t)k]));
+    summed  = i + 1;
+    visited = 0;
   }
   PetscCall(ParticleArraysRestore(dem->swarm, &L.p));
   dem->stats.contacts          = L.contacts;

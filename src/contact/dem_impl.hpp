@@ -43,7 +43,11 @@ struct WallContact {
 // finish[finish_start[i + 1] - 1]. Most contributions are read soon after they are written, so they share a ring of
 // kContributionRing places, which stays in cache; the pairs whose contributions are read later than that have places
 // of their own after it.
+// The force loop gathers the pairs in contact and evaluates them in SIMD lanes; it sums the particles whose pairs
+// are all evaluated each time, at the latest once it has visited kLanePairsVisited pairs since the last time (and the
+// pairs of the particle it is at): the ring allows for that delay.
 constexpr PetscInt kContributionRing = 8192; // a power of 2
+constexpr PetscInt kLanePairsVisited = 512;
 struct NeighbourList {
   std::vector<PetscInt>    start;      // nlocal + 1 offsets into entries
   std::vector<PetscInt>    entries;    // 2 out + (1 if the partner evaluates the pair)
@@ -53,7 +57,8 @@ struct NeighbourList {
   std::vector<WallContact> walls;
   std::vector<PetscInt>    finish_start; // nlocal + 1 offsets into finish
   std::vector<PetscInt>    finish;
-  PetscInt                 ncontrib = 0; // places for contributions: the ring, then those of their own
+  PetscInt                 ncontrib  = 0; // places for contributions: the ring, then those of their own
+  PetscInt                 max_pairs = 0; // the most pairs one particle holds in the half list
   // The histories of the listed contacts, the contact model's history_size reals per pair and per wall contact
   // (meaningful while its slot >= 0), in the order of pairs and walls.
   PetscInt               hs = 0;

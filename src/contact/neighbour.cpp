@@ -233,14 +233,19 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     nl.finish.resize((std::size_t)nlocal);
     for (PetscInt i = 0; i < nlocal; ++i) nl.finish[(std::size_t)fill[(std::size_t)ready[(std::size_t)i]]++] = i;
 
-    // A pair's contribution is read by its particles once pair_start[ready + 1] pairs are evaluated; its place in
-    // the ring is taken again by pair q + kContributionRing.
-    nl.ncontrib = kContributionRing;
+    // A pair's contribution is read by its particles once pair_start[ready + 1] pairs are visited, and at most
+    // kLanePairsVisited + max_pairs pairs later (the force loop's lanes); its place in the ring is taken again by pair
+    // q + kContributionRing.
+    nl.max_pairs = 0;
+    for (PetscInt i = 0; i < nlocal; ++i)
+      nl.max_pairs = PetscMax(nl.max_pairs, nl.pair_start[(std::size_t)i + 1] - nl.pair_start[(std::size_t)i]);
+    const PetscInt delay = kLanePairsVisited + nl.max_pairs;
+    nl.ncontrib          = kContributionRing;
     for (PetscInt i = 0; i < nlocal; ++i)
       for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
         ContactPair   &pr   = nl.pairs[(std::size_t)q];
         const PetscInt last = PetscMax(ready[(std::size_t)i], pr.partner < nlocal ? ready[(std::size_t)pr.partner] : i);
-        pr.out              = nl.pair_start[(std::size_t)last + 1] <= q + kContributionRing ? q % kContributionRing : nl.ncontrib++;
+        pr.out              = nl.pair_start[(std::size_t)last + 1] + delay <= q + kContributionRing ? q % kContributionRing : nl.ncontrib++;
       }
     for (PetscInt &c : nl.entries) c = 2 * nl.pairs[(std::size_t)(c / 2)].out + c % 2;
   }

@@ -75,17 +75,26 @@ inline double sqrt_effective_mass(double mi, double mj)
   return std::sqrt(mi * mj / (mi + mj));
 }
 
-// Kinematics of a particle pair. dij = x_j - x_i (minimum image in periodic directions), dist = |dij| > 0.
-inline ContactKinematics pair_kinematics(const Vec3 &dij, double dist, double ri, double rj, const Vec3 &vi, const Vec3 &vj, const Vec3 &wi,
-                                         const Vec3 &wj, double sqrt_meff)
+// Kinematics of a particle pair from what the pair's bodies give it: dij = x_j - x_i (minimum image in periodic
+// directions), dist = |dij| > 0, rsum = r_i + r_j, v_diff = v_i - v_j and w_sum = r_i w_i + r_j w_j. The contact loop
+// gathers these for many pairs and evaluates them in SIMD lanes (src/contact/contact_lsd.cpp).
+inline ContactKinematics pair_kinematics_from(const Vec3 &dij, double dist, double rsum, const Vec3 &v_diff, const Vec3 &w_sum,
+                                              double sqrt_meff)
 {
   ContactKinematics k;
   const double      inv = 1.0 / dist;
   k.n                   = inv * dij;
-  k.overlap             = (ri + rj) - dist;
-  k.v_rel               = (vi - vj) + cross(ri * wi + rj * wj, k.n);
+  k.overlap             = rsum - dist;
+  k.v_rel               = v_diff + cross(w_sum, k.n);
   k.sqrt_meff           = sqrt_meff;
   return k;
+}
+
+// Kinematics of a particle pair. dij = x_j - x_i (minimum image in periodic directions), dist = |dij| > 0.
+inline ContactKinematics pair_kinematics(const Vec3 &dij, double dist, double ri, double rj, const Vec3 &vi, const Vec3 &vj, const Vec3 &wi,
+                                         const Vec3 &wj, double sqrt_meff)
+{
+  return pair_kinematics_from(dij, dist, ri + rj, vi - vj, ri * wi + rj * wj, sqrt_meff);
 }
 
 // Kinematics of a particle against a plane wall at rest. n_wall is the unit normal pointing from the particle
@@ -134,12 +143,21 @@ inline ContactForce lsd_contact(const LsdModel &m, const ContactKinematics &k, d
   const double eta_t = m.damp_t * sqrt_meff;
   f.tangential       = -m.kt * xi_t - eta_t * vt; // eq. 2.4
   const double ft2   = norm2(f.tangential);
-  const double fmax2 = m.mu * m.mu * norm2(f.normal); // eq. 2.8, Coulomb slider (squares: no root unless sliding)
-  if (ft2 > fmax2) {
-    f.tangential = std::sqrt(fmax2 / ft2) * f.tangential;
-    // The spring stretches no further than the slider allows: keep xi consistent with the limited force.
-    xi_t = (m.kt > 0.0) ? (-1.0 / m.kt) * (f.tangential + eta_t * vt) : Vec3{};
-  }
+  const double fmax2 = m.mu * m.mu * norm2(f.normal); // eq. 2.8, Coulomb slider
+  // Selects, not a branch, so that the contact loop can evaluate contacts in SIMD lanes: the root and the
+  // division are taken in every contact (on a divisor that cannot be zero) and used only by one that slides; the
+  // others keep their force and history bit for bit (1 * x is x).
+  const bool   slides = ft2 > fmax2;
+  const double root   = std::sqrt(fmax2 / (slides ? ft2 : 1.0));
+  const double scale  = slides ? root : 1.0;
+  f.tangential        = scale * f.tangential;
+  // The spring stretches no further than the slider allows: keep xi consistent with the limited force.
+  const bool   spring   = m.kt > 0.0;
+  const double neg_c    = -1.0 / (spring ? m.kt : 1.0);
+  const Vec3   xi_slide = neg_c * (f.tangential + eta_t * vt);
+  xi_t.x                = slides ? (spring ? xi_slide.x : 0.0) : xi_t.x;
+  xi_t.y                = slides ? (spring ? xi_slide.y : 0.0) : xi_t.y;
+  xi_t.z                = slides ? (spring ? xi_slide.z : 0.0) : xi_t.z;
   return f;
 }
 
