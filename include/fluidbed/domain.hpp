@@ -29,6 +29,13 @@ struct Domain {
     if (axis >= dim || periodic[axis]) return false;
     return !(face == FACE_YHI && top_outlet);
   }
+  // Distance from the point x to the face's plane, positive inside the box: the gap a particle's centre keeps to a wall
+  // (the contacts, their lists and the overlap diagnostics all measure it here).
+  PetscReal WallGap(int face, const PetscReal x[3]) const
+  {
+    const int axis = face / 2;
+    return (face % 2) ? hi[axis] - x[axis] : x[axis] - lo[axis];
+  }
 };
 
 // Options with prefix -domain_ (dim, lx, ly, lz, periodic_x/y/z, top_outlet) and -gravity.

@@ -52,9 +52,8 @@ inline void Store(const SlotHistory &h, PetscReal *q)
 }
 
 struct WallFace {
-  int       face, axis;
-  PetscReal plane; // coordinate of the wall
-  Vec3      n;     // unit normal from the particle into the wall
+  int  face;
+  Vec3 n; // unit normal from the particle into the wall
 };
 
 // What one contact adds to body i: force, n x f_t (the torque on i is r_i n x f_t, on j r_j n x f_t), and the
@@ -149,6 +148,7 @@ constexpr PetscInt kLanes = 64;
 // The state of one force evaluation, shared by the per-particle steps below.
 struct ForceLoop {
   Dem                *dem;
+  const Domain       *dom;
   NeighbourList      *nl;
   ParticleArrays      p;
   PetscInt            nlocal;
@@ -327,8 +327,7 @@ void FlushLanes(ForceLoop &L)
     WallContact    &wc  = nl.walls[(std::size_t)k];
     PetscReal      *hk  = nl.WallHistory(k);
     const WallFace &w   = L.wall_of_face[wc.face];
-    const PetscReal xa  = (&bi.x.x)[w.axis];
-    const PetscReal gap = (w.face % 2) ? w.plane - xa : xa - w.plane;
+    const PetscReal gap = L.dom->WallGap(w.face, &bi.x.x);
     if (gap < bi.r) {
       SlotHistory h;
       if (wc.slot < 0) PetscCall(HistorySlotTake(L.p, i, WallKey(w.face), &wc.slot));
@@ -415,12 +414,13 @@ FLUIDBED_SIMD_CLONES PetscErrorCode LsdForces(Dem *dem)
     const int a = f / 2;
     Vec3      n;
     (&n.x)[a]       = (f % 2) ? 1.0 : -1.0;
-    wall_of_face[f] = {f, a, (f % 2) ? dom.hi[a] : dom.lo[a], n};
+    wall_of_face[f] = {f, n};
   }
   dem->impulse.resize(3 * (std::size_t)nlocal); // every entry is set below
   dem->contributions.resize((std::size_t)nl.ncontrib);
   dem->touching.resize((std::size_t)nl.ncontrib);
   L.dem      = dem;
+  L.dom      = &dom;
   L.nl       = &nl;
   L.nlocal   = nlocal;
   L.dt       = dem->dt;

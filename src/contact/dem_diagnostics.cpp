@@ -42,9 +42,8 @@ PetscErrorCode DemLocateMaxOverlap(Dem *dem, ParticleSite *site)
       consider((bi.r + bj.r - kernels::norm(d)) / (2.0 * PetscMin(bi.r, bj.r)), dem->body_id[(std::size_t)j]);
     }
     for (PetscInt k = nl.wall_start[(std::size_t)i]; k < nl.wall_start[(std::size_t)i + 1]; ++k) {
-      const int       face = (int)nl.walls[(std::size_t)k].face, a = face / 2;
-      const PetscReal xa  = (&bi.x.x)[a];
-      const PetscReal gap = (face % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
+      const int       face = (int)nl.walls[(std::size_t)k].face;
+      const PetscReal gap  = dom.WallGap(face, &bi.x.x);
       consider((bi.r - gap) / (2.0 * bi.r), WallKey(face));
     }
   }

@@ -205,9 +205,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     const ParticleBody &b = dem->bodies[(std::size_t)i];
     for (int f = 0; f < 2 * dim; ++f) {
       if (!dom.IsParticleWall(f)) continue;
-      const int       a   = f / 2;
-      const PetscReal xa  = (&b.x.x)[a];
-      const PetscReal gap = (f % 2) ? dom.hi[a] - xa : xa - dom.lo[a];
+      const PetscReal gap = dom.WallGap(f, &b.x.x);
       if (wall_slot[f] < 0 && !(gap < b.r + 2.0 * share[(std::size_t)i])) continue;
       nl.walls.push_back({f, wall_slot[f]});
       nl.wall_hist.resize(nl.wall_hist.size() + (std::size_t)nl.hs, 0.0);
