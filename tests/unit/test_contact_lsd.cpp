@@ -97,6 +97,31 @@ TEST(LsdContact, CoulombSliderLimitsTangentialForce)
   EXPECT_NEAR(again.x, f.tangential.x, 1e-12);
 }
 
+// The slider is written as selects (for the contact loop's SIMD lanes): a contact that sticks keeps its force and
+// history exactly, and without a tangential spring a sliding contact holds no displacement.
+TEST(LsdContact, SliderSelectsKeepStickingContactsAndClearHistoryWithoutSpring)
+{
+  const LsdModel m     = lsd_model(800.0, 800.0, 0.9, 0.25);
+  auto           k     = wall_kinematics({0, -1, 0}, 5e-4 - 2e-6, 5e-4, {1e-4, 0, 0}, {}, 1e-6);
+  Vec3           xi    = {1e-9, 0, 0};
+  const Vec3     vt    = k.v_rel - dot(k.v_rel, k.n) * k.n;
+  const Vec3     xi_in = xi - dot(xi, k.n) * k.n + 1e-6 * vt;
+  auto           f     = lsd_contact(m, k, 1e-6, xi);
+  ASSERT_LT(norm(f.tangential), 0.25 * norm(f.normal)); // sticks
+  EXPECT_EQ(xi.x, xi_in.x);                             // the history as projected and advanced, bit for bit
+  EXPECT_EQ(f.tangential.x, (-m.kt * xi_in - m.damp_t * k.sqrt_meff * vt).x);
+
+  LsdModel no_spring = lsd_model(800.0, 800.0, 0.9, 0.25);
+  no_spring.kt       = 0.0; // a tangential dashpot alone
+  auto fast          = wall_kinematics({0, -1, 0}, 5e-4 - 2e-6, 5e-4, {50.0, 0, 0}, {}, 1e-6);
+  Vec3 h             = {1e-3, 0, 0};
+  auto g             = lsd_contact(no_spring, fast, 1e-6, h);
+  EXPECT_NEAR(norm(g.tangential), 0.25 * norm(g.normal), 1e-12 * norm(g.normal)); // slides
+  EXPECT_EQ(h.x, 0.0);
+  EXPECT_EQ(h.y, 0.0);
+  EXPECT_EQ(h.z, 0.0);
+}
+
 TEST(LsdContact, HistoryProjectionLiesInTangentPlane)
 {
   const Vec3 n  = (1.0 / std::sqrt(3.0)) * Vec3{1, 1, 1};
