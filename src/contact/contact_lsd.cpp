@@ -127,23 +127,18 @@ struct PairLanes {
     REL,
     NFIELD
   };
-  PetscInt                 cap = 0, n = 0;
-  std::vector<PetscReal>   data; // NFIELD x cap
-  std::vector<PetscInt>    out;  // the pair's place in the contributions
-  std::vector<PetscReal *> hist; // the pair's history in the list
-  PetscReal               *f[NFIELD];
-  void                     Resize(PetscInt c)
-  {
-    cap = c;
-    data.assign((std::size_t)(NFIELD * c), 0.0);
-    out.resize((std::size_t)c);
-    hist.resize((std::size_t)c);
-    for (int k = 0; k < NFIELD; ++k) f[k] = data.data() + (std::size_t)k * (std::size_t)c;
-  }
+  // kCap lanes per field: the rows 1.6 kB apart (not a power of two, so that the fields do not share cache sets)
+  static constexpr PetscInt kCap = 200;
+  PetscInt                  n    = 0;
+  alignas(64) PetscReal f[NFIELD][kCap];
+  PetscInt   out[kCap];  // the pair's place in the contributions
+  PetscReal *hist[kCap]; // the pair's history in the list
 };
 // The lanes are evaluated once this many are gathered, or once this many pairs have been visited since the last
-// evaluation; the contribution ring allows for the second (kLanePairsVisited, dem_impl.hpp).
+// evaluation; the contribution ring allows for the second (kLanePairsVisited, dem_impl.hpp). A particle with more
+// pairs in contact than the lanes hold has them evaluated in turns.
 constexpr PetscInt kLanes = 64;
+static_assert(kLanes < PairLanes::kCap, "the lanes hold a particle's pairs beyond kLanes");
 
 // The state of one force evaluation, shared by the per-particle steps below.
 struct ForceLoop {
@@ -173,7 +168,7 @@ constexpr PetscReal kSign[2]       = {1.0, -1.0}; // by the entry's mirror bit
 // contact, so the results are bit for bit those of evaluating each pair alone (the build does not contract a * b + c
 // into fused multiply-adds, -ffp-contract=off). Built for AVX-512, AVX2 and the baseline; the loader picks the widest the
 // core has.
-FLUIDBED_SIMD_CLONES void EvaluateLanes(const kernels::LsdModel &m, PetscReal dt, PetscInt n, PetscReal *const *f)
+FLUIDBED_SIMD_CLONES void EvaluateLanes(const kernels::LsdModel &m, PetscReal dt, PetscInt n, PetscReal (*f)[PairLanes::kCap])
 {
   using F                        = PairLanes;
   const PetscReal *__restrict dx = f[F::DX], *__restrict dy = f[F::DY], *__restrict dz = f[F::DZ], *__restrict dist2 = f[F::DIST2];
@@ -215,14 +210,41 @@ void FlushLanes(ForceLoop &L)
   PairLanes &b = L.lanes;
   using F      = PairLanes;
   EvaluateLanes(L.dem->par.pp, L.dt, b.n, b.f);
-  PetscReal *const *f = b.f;
+  const auto &f = b.f;
   for (PetscInt k = 0; k < b.n; ++k) {
-    L.contrib[b.out[(std::size_t)k]] = {
+    L.contrib[b.out[k]] = {
       {f[F::FX][k], f[F::FY][k], f[F::FZ][k]}, {f[F::CX][k], f[F::CY][k], f[F::CZ][k]}, {f[F::JX][k], f[F::JY][k], f[F::JZ][k]}};
-    Store({{f[F::XIX][k], f[F::XIY][k], f[F::XIZ][k]}, f[F::OVERLAP][k], f[F::DAMPING][k]}, b.hist[(std::size_t)k]);
+    Store({{f[F::XIX][k], f[F::XIY][k], f[F::XIZ][k]}, f[F::OVERLAP][k], f[F::DAMPING][k]}, b.hist[k]);
     L.max_rel = PetscMax(L.max_rel, f[F::REL][k]);
   }
   b.n = 0;
+}
+
+// A contact begins: takes the pair's history slot; its history starts at zero. Out of line, like ContactEnds: both
+// are rare, and the gather loop keeps its registers without their code.
+[[gnu::noinline]] PetscErrorCode ContactBegins(ForceLoop &L, PetscInt i, ContactPair &pr, PetscInt k)
+{
+  using F = PairLanes;
+
+  PetscFunctionBeginUser;
+  PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)pr.partner], &pr.slot));
+  L.lanes.f[F::XIX][k] = L.lanes.f[F::XIY][k] = L.lanes.f[F::XIZ][k] = L.lanes.f[F::OVERLAP][k] = L.lanes.f[F::DAMPING][k] = 0.0;
+  PetscFunctionReturn(0);
+}
+
+// Apart now, in contact at the last step: the closing dashpot impulse; the pair's slots are freed.
+[[gnu::noinline]] void ContactEnds(ForceLoop &L, PetscInt i, ContactPair &pr, const Vec3 &d, PetscReal dist2, const PetscReal *hq)
+{
+  L.contrib[pr.out]  = EndContribution(L.dem->par.pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, L.dt, Load(hq));
+  L.touching[pr.out] = 1;
+  HistorySlotFree(L.p, i, pr.slot);
+  pr.slot = -1;
+  // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more slots
+  // than it has contacts
+  if (pr.partner_slot >= 0) {
+    HistorySlotFree(L.p, pr.partner, pr.partner_slot);
+    pr.partner_slot = -1;
+  }
 }
 
 // Visits the pairs particle i holds in the half list (the smaller id of two local particles, the local side of a
@@ -231,15 +253,14 @@ void FlushLanes(ForceLoop &L)
 // particles move).
 [[gnu::always_inline]] inline PetscErrorCode GatherPairs(ForceLoop &L, PetscInt i)
 {
-  using F                         = PairLanes;
-  const ParticleBody      &bi     = L.bodies[i];
-  const PetscInt           nlocal = L.nlocal;
-  const kernels::LsdModel &pp     = L.dem->par.pp;
-  const PetscInt           q0 = L.nl->pair_start[(std::size_t)i], q1 = L.nl->pair_start[(std::size_t)i + 1];
-  ContactPair             *pairs = L.nl->pairs.data();
-  PetscReal               *hq    = L.nl->pair_hist.data() + kLsdHistory * (std::size_t)q0; // pair q's history
-  PairLanes               &b     = L.lanes;
-  PetscReal *const        *f     = b.f;
+  using F                    = PairLanes;
+  const ParticleBody &bi     = L.bodies[i];
+  const PetscInt      nlocal = L.nlocal;
+  const PetscInt      q0 = L.nl->pair_start[(std::size_t)i], q1 = L.nl->pair_start[(std::size_t)i + 1];
+  ContactPair        *pairs = L.nl->pairs.data();
+  PetscReal          *hq    = L.nl->pair_hist.data() + kLsdHistory * (std::size_t)q0; // pair q's history
+  PairLanes          &b     = L.lanes;
+  auto               &f     = b.f;
 
   PetscFunctionBeginUser;
   for (PetscInt q = q0; q < q1; ++q, hq += kLsdHistory) {
@@ -260,11 +281,10 @@ void FlushLanes(ForceLoop &L)
     const PetscReal dist2 = kernels::norm2(d);
     const PetscReal rsum  = bi.r + bj.r;
     if (dist2 < rsum * rsum) {
+      if (__builtin_expect(b.n == PairLanes::kCap, 0)) FlushLanes(L); // a particle with more contacts than the lanes
       const PetscInt k = b.n++;
-      if (pr.slot < 0) {
-        PetscCall(HistorySlotTake(L.p, i, L.dem->body_id[(std::size_t)j], &pr.slot));
-        f[F::XIX][k] = f[F::XIY][k] = f[F::XIZ][k] = f[F::OVERLAP][k] = f[F::DAMPING][k] = 0.0;
-      } else {
+      if (__builtin_expect(pr.slot < 0, 0)) PetscCall(ContactBegins(L, i, pr, k));
+      else {
         f[F::XIX][k]     = hq[0];
         f[F::XIY][k]     = hq[1];
         f[F::XIZ][k]     = hq[2];
@@ -272,41 +292,28 @@ void FlushLanes(ForceLoop &L)
         f[F::DAMPING][k] = hq[4];
       }
       const Vec3 dv = bi.v - bj.v, ws = bi.r * bi.w + bj.r * bj.w; // as pair_kinematics forms them
-      f[F::DX][k]            = d.x;
-      f[F::DY][k]            = d.y;
-      f[F::DZ][k]            = d.z;
-      f[F::DIST2][k]         = dist2;
-      f[F::RSUM][k]          = rsum;
-      f[F::RMIN][k]          = PetscMin(bi.r, bj.r);
-      f[F::DVX][k]           = dv.x;
-      f[F::DVY][k]           = dv.y;
-      f[F::DVZ][k]           = dv.z;
-      f[F::WX][k]            = ws.x;
-      f[F::WY][k]            = ws.y;
-      f[F::WZ][k]            = ws.z;
-      f[F::SQRT_MEFF][k]     = pr.sqrt_meff;
-      b.out[(std::size_t)k]  = pr.out;
-      b.hist[(std::size_t)k] = hq;
-      L.touching[pr.out]     = 1;
+      f[F::DX][k]        = d.x;
+      f[F::DY][k]        = d.y;
+      f[F::DZ][k]        = d.z;
+      f[F::DIST2][k]     = dist2;
+      f[F::RSUM][k]      = rsum;
+      f[F::RMIN][k]      = PetscMin(bi.r, bj.r);
+      f[F::DVX][k]       = dv.x;
+      f[F::DVY][k]       = dv.y;
+      f[F::DVZ][k]       = dv.z;
+      f[F::WX][k]        = ws.x;
+      f[F::WY][k]        = ws.y;
+      f[F::WZ][k]        = ws.z;
+      f[F::SQRT_MEFF][k] = pr.sqrt_meff;
+      b.out[k]           = pr.out;
+      b.hist[k]          = hq;
+      L.touching[pr.out] = 1;
       L.contacts += j < nlocal ? 2 : 1;
-      continue;
-    }
-    if (pr.slot < 0) {
+    } else if (__builtin_expect(pr.slot >= 0, 0)) ContactEnds(L, i, pr, d, dist2, hq);
+    else {
       // Apart, as at the last step: its contribution is zero, and the particles skip it instead of adding it (the
       // same sums, SumParticle). Most listed pairs are apart, so this saves their stores and their sums.
       L.touching[pr.out] = 0;
-      continue;
-    }
-    // Apart now, in contact at the last step: the closing dashpot impulse.
-    L.contrib[pr.out]  = EndContribution(pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, L.dt, Load(hq));
-    L.touching[pr.out] = 1;
-    HistorySlotFree(L.p, i, pr.slot);
-    pr.slot = -1;
-    // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more slots
-    // than it has contacts
-    if (pr.partner_slot >= 0) {
-      HistorySlotFree(L.p, j, pr.partner_slot);
-      pr.partner_slot = -1;
     }
   }
   PetscFunctionReturn(0);
@@ -441,7 +448,6 @@ FLUIDBED_SIMD_CLONES PetscErrorCode LsdForces(Dem *dem)
   // Each pair once, in the storage order of the particles that evaluate it; each particle summed once the lanes that
   // hold the last of its pairs are evaluated. Its sums do not depend on when that is, and each particle's slots are
   // taken and freed in the same order: by its pairs (in the order they are visited), then by its walls.
-  if (L.lanes.cap < kLanes + nl.max_pairs) L.lanes.Resize(kLanes + nl.max_pairs);
   PetscInt summed = 0, visited = 0; // particles [0, summed) are summed; pairs visited since the lanes were last evaluated
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscCall(GatherPairs(L, i));
