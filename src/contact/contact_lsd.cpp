@@ -153,7 +153,6 @@ struct ForceLoop {
   Vec3                g;
   const WallFace     *wall_of_face; // indexed by face
   Contribution       *contrib;      // per pair, at ContactPair::out
-  unsigned char      *touching;     // per place of contrib: 1 when this step's contribution there is not zero
   const ParticleBody *bodies;
   PetscInt            npairs;
   PetscInt64          contacts;
@@ -235,8 +234,7 @@ void FlushLanes(ForceLoop &L)
 // Apart now, in contact at the last step: the closing dashpot impulse; the pair's slots are freed.
 [[gnu::noinline]] void ContactEnds(ForceLoop &L, PetscInt i, ContactPair &pr, const Vec3 &d, PetscReal dist2, const PetscReal *hq)
 {
-  L.contrib[pr.out]  = EndContribution(L.dem->par.pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, L.dt, Load(hq));
-  L.touching[pr.out] = 1;
+  L.contrib[pr.out] = EndContribution(L.dem->par.pp, pr.sqrt_meff, (1.0 / PetscSqrtReal(dist2)) * d, L.dt, Load(hq));
   HistorySlotFree(L.p, i, pr.slot);
   pr.slot = -1;
   // the partner's copy of the history (from the last sync) ends with the contact, so it never holds more slots
@@ -307,13 +305,11 @@ void FlushLanes(ForceLoop &L)
       f[F::SQRT_MEFF][k] = pr.sqrt_meff;
       b.out[k]           = pr.out;
       b.hist[k]          = hq;
-      L.touching[pr.out] = 1;
       L.contacts += j < nlocal ? 2 : 1;
     } else if (__builtin_expect(pr.slot >= 0, 0)) ContactEnds(L, i, pr, d, dist2, hq);
     else {
-      // Apart, as at the last step: its contribution is zero, and the particles skip it instead of adding it (the
-      // same sums, SumParticle). Most listed pairs are apart, so this saves their stores and their sums.
-      L.touching[pr.out] = 0;
+      // Apart, as at the last step: its contribution is zero (SumParticle adds it without a test).
+      L.contrib[pr.out] = Contribution{};
     }
   }
   PetscFunctionReturn(0);
@@ -363,11 +359,11 @@ void FlushLanes(ForceLoop &L)
 
   PetscFunctionBeginUser;
   if (nl.wall_start[(std::size_t)i] < nl.wall_start[(std::size_t)i + 1]) PetscCall(SumWalls(L, i, &sum));
-  // Pairs apart are skipped. Their contribution would be zero; the sums start at +0 and, with round-to-nearest, a
-  // sum is -0 only when both terms are, so they never become -0: adding a zero (of either sign) would leave them
-  // unchanged bit for bit, so skipping the pair gives the same sums as adding it. A pair evaluated by the partner
-  // adds {-force, n x f_t, -impulse}: -1 * x is -x. An entry is never negative: unsigned, its halves are a shift and
-  // a mask (no sign fix-ups in this hot loop).
+  // Pairs apart add their zero contribution, without a test (a branch the processor could not predict): the sums
+  // start at +0 and, with round-to-nearest, a sum is -0 only when both terms are, so they never become -0, and adding
+  // a zero (of either sign) leaves them unchanged bit for bit. A pair evaluated by the partner adds {-force, n x f_t,
+  // -impulse}: -1 * x is -x. An entry is never negative: unsigned, its halves are a shift and a mask (no sign fix-ups
+  // in this hot loop).
   // The nine reals of a contribution (force, n x f_t, impulse) in three vectors of four, each entry multiplied by
   // (s, s, s, r), (r, r, s, s) and s: the same products and sums as sum.F += s f, sum.T += r n x f_t, sum.J += s J.
   using V4 = double __attribute__((vector_size(32)));
@@ -377,10 +373,9 @@ void FlushLanes(ForceLoop &L)
   V4           A = {sum.F.x, sum.F.y, sum.F.z, sum.T.x}, B = {sum.T.y, sum.T.z, sum.J.x, sum.J.y};
   double       C = sum.J.z;
   for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-    const auto code = (std::uint32_t)nl.entries[(std::size_t)e];
-    if (!L.touching[code >> 1]) continue; // a zero contribution: skipping it is adding it (above)
-    const double  *c = &L.contrib[code >> 1].force.x;
-    const unsigned m = code & 1u;
+    const auto     code = (std::uint32_t)nl.entries[(std::size_t)e];
+    const double  *c    = &L.contrib[code >> 1].force.x;
+    const unsigned m    = code & 1u;
     V4             a, b;
     __builtin_memcpy(&a, c, sizeof a);
     __builtin_memcpy(&b, c + 4, sizeof b);
@@ -425,7 +420,6 @@ FLUIDBED_SIMD_CLONES PetscErrorCode LsdForces(Dem *dem)
   }
   dem->impulse.resize(3 * (std::size_t)nlocal); // every entry is set below
   dem->contributions.resize((std::size_t)nl.ncontrib);
-  dem->touching.resize((std::size_t)nl.ncontrib);
   L.dem      = dem;
   L.dom      = &dom;
   L.nl       = &nl;
@@ -436,7 +430,6 @@ FLUIDBED_SIMD_CLONES PetscErrorCode LsdForces(Dem *dem)
   L.g            = dem->body_force_factor * Vec3{dom.gravity[0], dom.gravity[1], dom.gravity[2]};
   L.wall_of_face = wall_of_face;
   L.contrib      = dem->contributions.data();
-  L.touching     = dem->touching.data();
   L.bodies       = dem->bodies.data();
   L.npairs       = (PetscInt)nl.pairs.size();
   L.contacts     = 0;

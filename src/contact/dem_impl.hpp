@@ -74,8 +74,7 @@ struct Dem : ParticleSystem {
   DemParams                        par;
   ContactModel                     contact; // the model -dem_contact_model names
   NeighbourList                    nl;
-  std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); not written when the pair is apart
-  std::vector<unsigned char>       touching;      // per place of contributions: 1 when written this step, 0 when the pair is apart
+  std::vector<ContactContribution> contributions;           // this step's, per pair (ContactPair::out); zero when the pair is apart
   PetscInt                         rebuilds_since_sort = 0; // list rebuilds since the storage was last sorted
   PetscInt                         steps_since_rebuild = 0; // DEM steps since the lists were last built
   PetscInt                         rebuild_interval    = 0; // steps between the last two rebuilds the motion asked for; 0: none yet
