@@ -123,17 +123,14 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       for (int oy = -1; oy <= 1; ++oy) {
         const PetscInt cy = c[1] + oy;
         if (cy < 0 || cy >= nb[1]) continue;
-        for (int ox = -1; ox <= 1; ++ox) {
-          const PetscInt cx = c[0] + ox;
-          if (cx < 0 || cx >= nb[0]) continue;
-          const PetscInt b = cx + nb[0] * (cy + nb[1] * cz);
-          for (PetscInt q = bin_start[(std::size_t)b]; q < bin_start[(std::size_t)b + 1]; ++q) {
-            const BinnedBody &B  = binned[(std::size_t)q];
-            const PetscReal   dx = B.x - xi.x, dy = B.y - xi.y, dz = B.z - xi.z, cut = reach + B.reach;
-            if (dx * dx + dy * dy + dz * dz < cut * cut) {
-              const PetscInt j = bin_body[(std::size_t)q];
-              if (j != i) found.push_back({dem->body_id[(std::size_t)j], j});
-            }
+        // the three bins along x are consecutive in the binning, and so are their bodies: one range
+        const PetscInt row = nb[0] * (cy + nb[1] * cz), b0 = row + PetscMax(c[0] - 1, 0), b1 = row + PetscMin(c[0] + 1, nb[0] - 1);
+        for (PetscInt q = bin_start[(std::size_t)b0]; q < bin_start[(std::size_t)b1 + 1]; ++q) {
+          const BinnedBody &B  = binned[(std::size_t)q];
+          const PetscReal   dx = B.x - xi.x, dy = B.y - xi.y, dz = B.z - xi.z, cut = reach + B.reach;
+          if (dx * dx + dy * dy + dz * dz < cut * cut) {
+            const PetscInt j = bin_body[(std::size_t)q];
+            if (j != i) found.push_back({dem->body_id[(std::size_t)j], j});
           }
         }
       }
