@@ -109,31 +109,65 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     PetscInt   j;
   };
   std::vector<Candidate> found; // one particle's partners, sorted by id (ids are unique)
-  const int              zr = dim == 3 ? 1 : 0;
-  for (PetscInt i = 0; i < nlocal; ++i) {
-    const kernels::Vec3 &xi    = pos[(std::size_t)i];
-    const PetscReal      reach = dem->bodies[(std::size_t)i].r + share[(std::size_t)i];
-    const PetscInt64     id    = dem->body_id[(std::size_t)i];
-    const PetscInt       bi    = body_bin[(std::size_t)i];
-    const PetscInt       c[3]  = {bi % nb[0], (bi / nb[0]) % nb[1], bi / (nb[0] * nb[1])};
-    found.clear();
-    for (int oz = -zr; oz <= zr; ++oz) {
-      const PetscInt cz = c[2] + oz;
-      if (cz < 0 || cz >= nb[2]) continue;
-      for (int oy = -1; oy <= 1; ++oy) {
-        const PetscInt cy = c[1] + oy;
-        if (cy < 0 || cy >= nb[1]) continue;
-        // the three bins along x are consecutive in the binning, and so are their bodies: one range
-        const PetscInt row = nb[0] * (cy + nb[1] * cz), b0 = row + PetscMax(c[0] - 1, 0), b1 = row + PetscMin(c[0] + 1, nb[0] - 1);
-        for (PetscInt q = bin_start[(std::size_t)b0]; q < bin_start[(std::size_t)b1 + 1]; ++q) {
-          const BinnedBody &B  = binned[(std::size_t)q];
-          const PetscReal   dx = B.x - xi.x, dy = B.y - xi.y, dz = B.z - xi.z, cut = reach + B.reach;
-          if (dx * dx + dy * dy + dz * dz < cut * cut) {
-            const PetscInt j = bin_body[(std::size_t)q];
-            if (j != i) found.push_back({dem->body_id[(std::size_t)j], j});
-          }
+  // Each pair within its cutoff found once: each body (ghosts too) tests the bodies after it in its own bin and those
+  // of the bins after its own in the 3 x 3 x 3 stencil (z, then y, then x), half the stencil. The three bins along x
+  // of a row are consecutive in the binning, and so are their bodies, so this is five ranges of candidates (two in
+  // 2D). The test is symmetric in the two bodies bit for bit (the same squares, the same sum of reaches), so the lists
+  // are those of testing every body against the whole stencil. Pairs of two ghosts are not kept.
+  std::vector<PetscInt> near_start((std::size_t)nlocal + 1, 0), near; // each local particle's partners (CSR)
+  {
+    std::vector<std::pair<PetscInt, PetscInt>> found_pairs;
+    auto                                       test_range = [&](PetscInt k, const BinnedBody &A, PetscInt q0, PetscInt q1) {
+      for (PetscInt q = q0; q < q1; ++q) {
+        const BinnedBody &B  = binned[(std::size_t)q];
+        const PetscReal   dx = B.x - A.x, dy = B.y - A.y, dz = B.z - A.z, cut = A.reach + B.reach;
+        if (dx * dx + dy * dy + dz * dz < cut * cut) {
+          const PetscInt m = bin_body[(std::size_t)q];
+          if (k < nlocal || m < nlocal) found_pairs.push_back({k, m});
         }
       }
+    };
+    for (PetscInt qa = 0; qa < ntotal; ++qa) {
+      const PetscInt    k         = bin_body[(std::size_t)qa];
+      const BinnedBody &A         = binned[(std::size_t)qa];
+      const PetscInt    bk        = body_bin[(std::size_t)k];
+      const PetscInt    c[3]      = {bk % nb[0], (bk / nb[0]) % nb[1], bk / (nb[0] * nb[1])};
+      auto              row_range = [&](PetscInt cy, PetscInt cz, PetscInt *q0, PetscInt *q1) {
+        const PetscInt row = nb[0] * (cy + nb[1] * cz);
+        *q0                = bin_start[(std::size_t)(row + PetscMax(c[0] - 1, 0))];
+        *q1                = bin_start[(std::size_t)(row + PetscMin(c[0] + 1, nb[0] - 1)) + 1];
+      };
+      PetscInt q0, q1;
+      row_range(c[1], c[2], &q0, &q1);
+      test_range(k, A, qa + 1, q1); // the rest of its own bin, and the next bin along x
+      if (c[1] + 1 < nb[1]) {
+        row_range(c[1] + 1, c[2], &q0, &q1);
+        test_range(k, A, q0, q1);
+      }
+      if (dim == 3 && c[2] + 1 < nb[2])
+        for (PetscInt cy = PetscMax(c[1] - 1, 0); cy <= PetscMin(c[1] + 1, nb[1] - 1); ++cy) {
+          row_range(cy, c[2] + 1, &q0, &q1);
+          test_range(k, A, q0, q1);
+        }
+    }
+    for (const auto &pr : found_pairs) {
+      if (pr.first < nlocal) near_start[(std::size_t)pr.first + 1]++;
+      if (pr.second < nlocal) near_start[(std::size_t)pr.second + 1]++;
+    }
+    for (PetscInt i = 0; i < nlocal; ++i) near_start[(std::size_t)i + 1] += near_start[(std::size_t)i];
+    near.resize((std::size_t)near_start[(std::size_t)nlocal]);
+    std::vector<PetscInt> fill(near_start.begin(), near_start.end() - 1);
+    for (const auto &pr : found_pairs) {
+      if (pr.first < nlocal) near[(std::size_t)fill[(std::size_t)pr.first]++] = pr.second;
+      if (pr.second < nlocal) near[(std::size_t)fill[(std::size_t)pr.second]++] = pr.first;
+    }
+  }
+  for (PetscInt i = 0; i < nlocal; ++i) {
+    const PetscInt64 id = dem->body_id[(std::size_t)i];
+    found.clear();
+    for (PetscInt e = near_start[(std::size_t)i]; e < near_start[(std::size_t)i + 1]; ++e) {
+      const PetscInt j = near[(std::size_t)e];
+      found.push_back({dem->body_id[(std::size_t)j], j});
     }
     std::sort(found.begin(), found.end(), [](const Candidate &a, const Candidate &b) { return a.id < b.id; });
     for (const Candidate &c : found) {
