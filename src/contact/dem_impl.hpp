@@ -74,7 +74,9 @@ struct Dem : ParticleSystem {
   DemParams                        par;
   ContactModel                     contact; // the model -dem_contact_model names
   NeighbourList                    nl;
-  std::vector<ContactContribution> contributions;           // this step's, per pair (ContactPair::out); zero when the pair is apart
+  std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); zero (or skipped) when the pair is apart
+  std::vector<unsigned char>       touching;      // per place of contributions, when the sums skip pairs apart: 1 when written
+  PetscReal                        contact_share       = 1; // share of the listed pairs in contact at the last force evaluation
   PetscInt                         rebuilds_since_sort = 0; // list rebuilds since the storage was last sorted
   PetscInt                         steps_since_rebuild = 0; // DEM steps since the lists were last built
   PetscInt                         rebuild_interval    = 0; // steps between the last two rebuilds the motion asked for; 0: none yet
