@@ -286,7 +286,9 @@ template <bool kSkipApart>
     const PetscReal dist2 = kernels::norm2(d);
     const PetscReal rsum  = bi.r + bj.r;
     if (dist2 < rsum * rsum) {
-      if (__builtin_expect(b.n == PairLanes::kCap, 0)) FlushLanes(L); // a particle with more contacts than the lanes
+      // A particle with more contacts than the lanes hold: not reached while -dem_max_contacts is at most 128 (the
+      // lanes then hold at most kLanes - 1 + 128 < kCap), kept for larger limits (checked bit for bit with kCap = 65).
+      if (__builtin_expect(b.n == PairLanes::kCap, 0)) FlushLanes(L);
       const PetscInt k = b.n++;
       if (__builtin_expect(pr.slot < 0, 0)) PetscCall(ContactBegins(L, i, pr, k));
       else {
