@@ -11,6 +11,10 @@ standard error by batch means (10 batches; fluidbed_tools.stats), each run's dif
 uncertainty from both. The cost (wall s per simulated s per core) comes from each run's summary.json, over the part
 of the run its last start made (fluidbed_tools.outputs.run_cost).
 
+--reference-json takes the reference from an earlier comparison's JSON (its first run) instead of a run directory,
+for a reference whose monitor.csv is gone: its window statistics stand in, so the window must be the same (--start,
+and --end or the stored end), and every run given must reach its end.
+
 A run that lacks monitor.csv, or windows that do not overlap, end it with a message and exit status 2.
 
 example:
@@ -89,15 +93,32 @@ def cost(run):
     return outputs.run_cost(outputs.summary(run))
 
 
-def compare(runs, start, end=None):
-    """The comparison of runs[1:] with runs[0] (see the module's text) as a dict."""
+def stored_reference(path, start, end):
+    """The reference entry of an earlier comparison's JSON, and its window's end; its window must be [start, end]."""
+    try:
+        stored = json.load(open(path))
+        ref, s0, s1 = stored["runs"][0], stored["start"], stored["end"]
+    except (OSError, ValueError, KeyError, IndexError, TypeError) as e:
+        die("--reference-json %s: not a comparison written by --json (%s)" % (path, e))
+    if abs(s0 - start) > 1e-9 or (end is not None and abs(s1 - end) > 1e-9):
+        die("--reference-json %s holds the window %g-%g s; --start/--end ask for %g-%s s" % (path, s0, s1, start, "%g" % end if end is not None else "its end"))
+    return dict(ref, run=ref["run"] + " (stored)"), s1
+
+
+def compare(runs, start, end=None, reference=None):
+    """The comparison of runs[1:] with runs[0] (see the module's text) as a dict; with reference (a stored entry, see
+    stored_reference), of every run with it, over its window [start, end]."""
     data = [series(r) for r in runs]
     common = min(s["time"][-1] for s in data)
+    if reference is not None and common < end - 1e-9:
+        die("the stored reference's window ends at %g s; the shortest run ends at %g s" % (end, common))
     end = common if end is None else min(end, common)
     if end <= start:
         die("the runs' windows do not overlap after --start %g s (the shortest ends at %g s)" % (start, common))
     out = {"start": start, "end": end, "runs": []}
-    ref = None
+    ref = reference
+    if ref is not None:
+        out["runs"].append(ref)
     for run, s in zip(runs, data):
         w = window_means(s, start, end)
         if w is None:
@@ -142,6 +163,12 @@ def plot(runs, res, path, labels):
         s = series(run)
         for ax, k in zip(axes, names):
             ax.plot(s["time"], s[k], lw=0.8, label=label)
+    stored = [e for e in res["runs"] if e["run"].endswith("(stored)")]
+    for e in stored:  # a reference without its series: its window mean +- standard error
+        for ax, k in zip(axes, MEASURES):
+            if e.get(k):
+                m, err = e[k]["mean"], e[k]["error"]
+                ax.fill_between([res["start"], res["end"]], m - err, m + err, color="black", alpha=0.25, label=e["run"])
     for ax, k in zip(axes, names):
         ax.axvspan(res["start"], res["end"], color="grey", alpha=0.12)
         ax.set_ylabel(k.replace("_", " "), fontsize=8)
@@ -159,10 +186,14 @@ def main():
     ap.add_argument("--labels", default="", help="comma-separated legend labels (default the directories)")
     ap.add_argument("--json", help="write the comparison here")
     ap.add_argument("--plot", help="draw the runs' series here (png)")
+    ap.add_argument("--reference-json", help="the reference from an earlier comparison's --json (its first run), not a run directory")
     args = ap.parse_args()
-    if len(args.runs) < 2:
+    reference, end = None, args.end
+    if args.reference_json:
+        reference, end = stored_reference(args.reference_json, args.start, args.end)
+    elif len(args.runs) < 2:
         die("give a reference run and at least one run to compare with it")
-    res = compare(args.runs, args.start, args.end)
+    res = compare(args.runs, args.start, end, reference)
     report(res)
     if args.json:
         with open(args.json, "w") as f:

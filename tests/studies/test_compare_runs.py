@@ -2,7 +2,8 @@
 and whose particles' centre of mass is 2% higher is reported as -3% and +2% (within the noise, and the stated
 uncertainty near the noise's), the largest overlap of the window (not of the whole run) is reported, the pressure
 probes are taken lowest minus highest whatever their column order, and a run without monitor.csv or a window past
-the shortest run ends with exit status 2 and a message."""
+the shortest run ends with exit status 2 and a message. A reference stored by --json (its monitor gone) gives the
+same differences as the reference run itself, and a window other than the stored one is refused."""
 import json
 import math
 import os
@@ -55,7 +56,19 @@ t.check(abs(res["start"] - 0.1) < 1e-12 and abs(res["end"] - 0.5) < 1e-9 and ref
 t.check(ref["max_overlap_rel"] == 0.01 and soft["max_overlap_rel"] == 0.04, "the window's largest overlaps, not the start's 0.2 d: %g, %g" % (
     ref["max_overlap_rel"], soft["max_overlap_rel"]))
 
-for args, what in ((["cmp_ref", "missing_run"], "no monitor.csv"), (["cmp_ref", "cmp_soft", "--start", "0.6"], "windows that do not overlap")):
+# The reference from the JSON just written, as for a run whose folder is gone: the same differences.
+p = subprocess.run([sys.executable, SCRIPT, "cmp_soft", "--reference-json", "cmp.json", "--start", "0.1", "--json", "cmp_stored.json", "--plot",
+                    "cmp_stored.png"], capture_output=True, text=True)
+print(p.stdout, p.stderr)
+t.check(p.returncode == 0 and os.path.getsize("cmp_stored.png") > 0, "the comparison with a stored reference ran and drew its plot (exit %d)" %
+        p.returncode)
+stored = json.load(open("cmp_stored.json"))
+t.check(stored["runs"][0]["run"] == "cmp_ref (stored)" and stored["runs"][1]["relative_difference"] == soft["relative_difference"],
+        "a stored reference gives the same differences as its run: %s" % stored["runs"][1]["relative_difference"])
+
+for args, what in ((["cmp_ref", "missing_run"], "no monitor.csv"), (["cmp_ref", "cmp_soft", "--start", "0.6"], "windows that do not overlap"),
+                   (["cmp_soft", "--reference-json", "cmp.json", "--start", "0.2"], "a window other than the stored reference's"),
+                   (["cmp_soft", "--reference-json", "cmp_soft/monitor.csv"], "a stored reference that is not a comparison")):
     p = subprocess.run([sys.executable, SCRIPT] + args, capture_output=True, text=True)
     t.check(p.returncode == 2 and "compare_runs.py:" in p.stderr and "Traceback" not in p.stderr, "%s: exit %d, %s" % (what, p.returncode, p.stderr.strip()))
 print("ok")
