@@ -32,16 +32,21 @@ save)
   run=$2 name=$3
   [[ -f $run/checkpoint.h5 ]] || { echo "campaign.sh: $run has no checkpoint.h5 to save" >&2; exit 2; }
   mkdir -p "$store/$name"
+  # A running job replaces checkpoint.h5 by a rename: a hard link holds the file of this moment for the packing, the
+  # hash and the time below (monitor.csv may run ahead of it; a restart drops the rows after the checkpoint's step).
+  held=$run/.campaign_checkpoint.h5
+  ln -f "$run/checkpoint.h5" "$held" 2>/dev/null || cp "$run/checkpoint.h5" "$held"
+  trap 'rm -f "$held"' EXIT
   # Pack to a temporary name first: a stop half-way must not leave a truncated checkpoint where a good one was.
-  xz -T1 -6 -c "$run/checkpoint.h5" >"$store/$name/checkpoint.h5.xz.part"
+  xz -T1 -6 -c "$held" >"$store/$name/checkpoint.h5.xz.part"
   mv "$store/$name/checkpoint.h5.xz.part" "$store/$name/checkpoint.h5.xz"
   for r in "${records[@]}"; do
     [[ -f $run/$r ]] && cp "$run/$r" "$store/$name/$r"
   done
   {
-    echo "checkpoint: $(checkpoint_time "$run/checkpoint.h5")"
+    echo "checkpoint: $(checkpoint_time "$held")"
     echo "saved: $(date -u +%Y-%m-%dT%H:%M:%SZ) from $run, fluidbed $(git -C "$root" rev-parse --short HEAD)"
-    echo "sha256: $(sha256sum "$run/checkpoint.h5" | cut -d' ' -f1)"
+    echo "sha256: $(sha256sum "$held" | cut -d' ' -f1)"
   } >"$store/$name/state.txt"
   echo "campaign.sh: saved $run to $store/$name ($(du -h "$store/$name/checkpoint.h5.xz" | cut -f1)); commit it"
   cat "$store/$name/state.txt"
