@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""The 550 um spouted beds' answers beside the seed's chapter-3 tables: expanded bed height (Table 3.4 single jet, by
+the expanded-volume method; Table 3.5 double and triple jets, by the cut-off solid fraction 0.1), the inputs of the
+counter-current circulation (Table 3.6: bulk solid fraction eq. 3.7, fraction of the bed moving down, mean downward
+speed) and the circulation rate of eq. 3.6 (the seed's computed from its Table 3.6 with rho_p = 2500 kg/m^3 and the
+distributor's 56.4 x 4.95 mm).
+
+Each run is a folder of scripts/validate.sh (its command.txt names examples/<scene>.opts; its analysis.h5 holds the
+solver's time averages, -average_start). Prints a markdown table per run; --json writes the rows.
+
+    scripts/seed_tables.py bench/spouted550_kn150/spouted_550_jet1_u160 [more runs] [--json tables.json]
+
+A run without analysis.h5, or of a scene the seed's tables do not hold, ends it with a message and exit status 2."""
+import argparse
+import json
+import os
+import re
+import sys
+
+import h5py
+
+RHO_P = 2500.0
+DISTRIBUTOR_AREA = 0.0564 * 0.00495  # m^2, Fig. 3.1
+
+# Tables 3.4-3.6 per scene: expanded bed height (mm) simulated and measured, the method the seed used for it, and the
+# Table 3.6 inputs (bulk solid fraction, fraction moving down, mean downward speed in m/s).
+SEED = {
+    "spouted_550_jet1_u160": dict(h_sim=60.3, h_exp=55.4, method="volume", bulk=0.518, f_down=0.549, v_down=0.0328),
+    "spouted_550_jet1_u301": dict(h_sim=88.5, h_exp=None, method="volume", bulk=0.353, f_down=0.451, v_down=0.117),
+    "spouted_550_jet2_u160": dict(h_sim=58.22, h_exp=50.75, method="cutoff", bulk=0.536, f_down=0.558, v_down=0.0178),
+    "spouted_550_jet2_u301": dict(h_sim=78.09, h_exp=None, method="cutoff", bulk=0.401, f_down=0.470, v_down=0.0623),
+    "spouted_550_jet3_u160": dict(h_sim=63.35, h_exp=58.74, method="cutoff", bulk=0.493, f_down=0.461, v_down=0.0349),
+    "spouted_550_jet3_u301": dict(h_sim=84.93, h_exp=None, method="cutoff", bulk=0.368, f_down=0.462, v_down=0.0671),
+}
+
+
+def die(message):
+    print("seed_tables.py: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
+def seed_circulation(s):
+    """eq. 3.6 with the seed's Table 3.6 inputs (kg/s)."""
+    return RHO_P * s["bulk"] * s["f_down"] * s["v_down"] * DISTRIBUTOR_AREA
+
+
+def scene_of(run):
+    path = os.path.join(run, "command.txt")
+    if not os.path.isfile(path):
+        die("%s has no command.txt: not a run of scripts/validate.sh" % run)
+    m = re.search(r"examples/([A-Za-z0-9_]+)\.opts", open(path).read())
+    if not m or m.group(1) not in SEED:
+        die("%s: scene %s is not one of the seed's 550 um spouted beds (%s)" % (run, m.group(1) if m else "unknown", ", ".join(SEED)))
+    return m.group(1)
+
+
+def measures(run):
+    path = os.path.join(run, "analysis.h5")
+    if not os.path.isfile(path):
+        die("%s has no analysis.h5: the run has not reached -average_start, or averages nothing" % run)
+    with h5py.File(path, "r") as f:
+        return {k: float(f["measures/" + k][()].ravel()[0]) for k in f["measures"]}
+
+
+def rows(run):
+    """The table's rows for one run: (quantity, ours, seed's simulation, seed's experiment)."""
+    scene = scene_of(run)
+    s, m = SEED[scene], measures(run)
+    h_key = "expanded_bed_height_volume" if s["method"] == "volume" else "expanded_bed_height_cutoff"
+    other = "expanded_bed_height_cutoff" if s["method"] == "volume" else "expanded_bed_height_volume"
+    out = [("expanded bed height, %s method (mm)" % ("expanded-volume" if s["method"] == "volume" else "cut-off"), 1e3 * m[h_key], s["h_sim"],
+            s["h_exp"]),
+           ("expanded bed height, the other method (mm)", 1e3 * m[other], None, None),
+           ("bulk solid fraction (eq. 3.7)", m["bulk_solid_fraction"], s["bulk"], None),
+           ("fraction of the bed moving down", m["fraction_moving_down"], s["f_down"], None),
+           ("mean downward speed (m/s)", m["mean_downward_speed"], s["v_down"], None),
+           ("solid circulation, eq. 3.6 (g/s)", 1e3 * m["solid_circulation"], 1e3 * seed_circulation(s), None)]
+    if "pressure_drop" in m:
+        out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
+    return scene, m, out
+
+
+def fmt(x):
+    return "-" if x is None else "%.4g" % x
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("runs", nargs="+", help="run folders of scripts/validate.sh")
+    ap.add_argument("--json", help="write the rows here")
+    args = ap.parse_args()
+    report = []
+    for run in args.runs:
+        scene, m, table = rows(run)
+        print("%s (%s), averaged over %.3g-%.3g s, %d samples\n" % (run, scene, m["window_start"], m["window_end"], m["samples"]))
+        print("| quantity | ours | seed, simulation | seed, experiment | ours against the seed's simulation |")
+        print("|---|---|---|---|---|")
+        entries = []
+        for name, ours, sim, exp in table:
+            diff = "%+.1f%%" % (100 * (ours / sim - 1)) if sim else "-"
+            print("| %s | %s | %s | %s | %s |" % (name, fmt(ours), fmt(sim), fmt(exp), diff))
+            entries.append({"quantity": name, "ours": ours, "seed_simulation": sim, "seed_experiment": exp})
+        print()
+        report.append({"run": run, "scene": scene, "window": [m["window_start"], m["window_end"]], "rows": entries})
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(report, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
