@@ -102,7 +102,8 @@ def stored_reference(path, start, end):
         die("--reference-json %s: not a comparison written by --json (%s)" % (path, e))
     if abs(s0 - start) > 1e-9 or (end is not None and abs(s1 - end) > 1e-9):
         die("--reference-json %s holds the window %g-%g s; --start/--end ask for %g-%s s" % (path, s0, s1, start, "%g" % end if end is not None else "its end"))
-    return dict(ref, run=ref["run"] + " (stored)"), s1
+    name = ref["run"] if ref["run"].endswith(" (stored)") else ref["run"] + " (stored)"  # a comparison of a stored one, stored again
+    return dict(ref, run=name), s1
 
 
 def compare(runs, start, end=None, reference=None):
