@@ -60,18 +60,16 @@ restore)
     exit 2
   fi
   mkdir -p "$run/plots"
-  xz -d -c "$store/$name/checkpoint.h5.xz" >"$run/checkpoint.h5.part" || {
+  # a pack that does not unpack to the saved file leaves nothing behind
+  refuse() {
     rm -f "$run/checkpoint.h5.part"
-    echo "campaign.sh: campaign/$name/checkpoint.h5.xz does not unpack (damaged)" >&2
+    echo "campaign.sh: campaign/$name/checkpoint.h5.xz $1" >&2
     exit 1
   }
+  xz -d -c "$store/$name/checkpoint.h5.xz" >"$run/checkpoint.h5.part" || refuse "does not unpack (damaged)"
   want=$(sed -n 's/^sha256: //p' "$store/$name/state.txt")
   got=$(sha256sum "$run/checkpoint.h5.part" | cut -d' ' -f1)
-  [[ -z $want || $want == "$got" ]] || {
-    rm -f "$run/checkpoint.h5.part"
-    echo "campaign.sh: campaign/$name/checkpoint.h5.xz unpacks to a different file (sha256 $got, saved $want)" >&2
-    exit 1
-  }
+  [[ -z $want || $want == "$got" ]] || refuse "unpacks to a different file (sha256 $got, saved $want)"
   mv "$run/checkpoint.h5.part" "$run/checkpoint.h5"
   for r in "${records[@]}"; do
     [[ -f $store/$name/$r ]] && cp "$store/$name/$r" "$run/$r"

@@ -17,7 +17,7 @@ import os
 import re
 import sys
 
-import h5py
+from fluidbed_tools import outputs
 
 RHO_P = 2500.0
 DISTRIBUTOR_AREA = 0.0564 * 0.00495  # m^2, Fig. 3.1
@@ -58,8 +58,8 @@ def measures(run):
     path = os.path.join(run, "analysis.h5")
     if not os.path.isfile(path):
         die("%s has no analysis.h5: the run has not reached -average_start, or averages nothing" % run)
-    with h5py.File(path, "r") as f:
-        return {k: float(f["measures/" + k][()].ravel()[0]) for k in f["measures"]}
+    data = outputs.read_h5(path)
+    return {k[len("measures/"):]: float(v.ravel()[0]) for k, v in data.items() if k.startswith("measures/")}
 
 
 def rows(run):
