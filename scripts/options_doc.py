@@ -48,7 +48,9 @@ for title, lines in sections:
     for line in lines:
         m = re.match(r"\s+-(\S+?)[: ]\s*(<[^>]*>)?:?\s*(.*)", line)
         if not m:
-            if opts and line.startswith(" ") and line.strip():
+            # a wrapped description is indented past the options' two spaces; a PC's heading or the run's model
+            # table (two spaces) is not part of the option above it
+            if opts and line.startswith("   ") and line.strip():
                 opts[-1][2] += " " + line.strip()
             continue
         name, default, desc = m.group(1), (m.group(2) or "").strip("<>"), m.group(3)

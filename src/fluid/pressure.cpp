@@ -461,6 +461,17 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
                (int)f->n[0], (int)f->n[1], (int)size);
     const PetscReal weight[3] = {f->area[0] / f->h[0], f->area[1] / f->h[1], f->area[2] / f->h[2]};
     PetscCall(PCFastPoissonSetGrid(pc, f->da_p, weight, f->has_dirichlet));
+    PetscBool is_composite;
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCCOMPOSITE, &is_composite));
+    if (is_composite) { // e.g. -fluid_p_pc_composite_pcs sor,fastpoisson: each fastpoisson part gets the grid
+      PetscInt parts;
+      PetscCall(PCCompositeGetNumberPC(pc, &parts));
+      for (PetscInt q = 0; q < parts; ++q) {
+        PC sub;
+        PetscCall(PCCompositeGetPC(pc, q, &sub));
+        PetscCall(PCFastPoissonSetGrid(sub, f->da_p, weight, f->has_dirichlet));
+      }
+    }
   }
   PetscCall(FluidDumpSetFromOptions(f));
   {
