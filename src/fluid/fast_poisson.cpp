@@ -50,7 +50,8 @@ struct FastPoisson {
   PetscInt            applies = 0;
   // -fluid_p_pc_fastpoisson_jacobi: a Jacobi step before and after the inverse (symmetric multiplicative), for
   // operators whose face coefficients jump; dinv = 1 / diag A, t and u work vectors of the operator's layout
-  PetscBool jacobi = PETSC_FALSE;
+  PetscBool jacobi        = PETSC_FALSE;
+  PetscReal jacobi_weight = 2.0 / 3.0;
   Vec       dinv = nullptr, t = nullptr, u = nullptr;
 };
 
@@ -272,6 +273,7 @@ PetscErrorCode PCSetUp_FastPoisson(PC pc)
     }
     PetscCall(MatGetDiagonal(pc->pmat, fp->dinv)); // positive: a sum of positive face coefficients
     PetscCall(VecReciprocal(fp->dinv));
+    PetscCall(VecScale(fp->dinv, fp->jacobi_weight));
   }
   PetscFunctionReturn(0);
 }
@@ -438,6 +440,12 @@ PetscErrorCode PCSetFromOptions_FastPoisson(PC pc, PetscOptionItems *PetscOption
                              "A Jacobi step before and after the separable inverse (symmetric multiplicative): robust where the face "
                              "coefficients jump (cells at the void-fraction floor), two more operator products per application",
                              "PCFastPoisson", fp->jacobi, &fp->jacobi, NULL));
+  PetscCall(PetscOptionsReal("-pc_fastpoisson_jacobi_weight",
+                             "Weight w of the Jacobi steps, w D^-1, in (0, 1): below 1 keeps the preconditioner positive definite (an "
+                             "undamped step sends the checkerboard mode of a walled grid to minus itself)",
+                             "PCFastPoisson", fp->jacobi_weight, &fp->jacobi_weight, NULL));
+  PetscCheck(fp->jacobi_weight > 0 && fp->jacobi_weight < 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_ARG_OUTOFRANGE,
+             "-fluid_p_pc_fastpoisson_jacobi_weight = %g is out of range: allowed (0, 1)", (double)fp->jacobi_weight);
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }

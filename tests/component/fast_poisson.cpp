@@ -168,6 +168,7 @@ int main(int argc, char **argv)
       PetscCall(KSPSetOperators(ksp, A, A));
       PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
       PetscCall(KSPSetTolerances(ksp, 1e-10, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+      PetscCall(KSPSetComputeSingularValues(ksp, PETSC_TRUE)); // before the set-up, which sizes CG's Lanczos arrays
       PetscCall(KSPSetFromOptions(ksp));
       if (jacobi) { // the Jacobi steps keep the PC symmetric on the jumping operator
         Vec       u, v, pu, pv;
@@ -189,6 +190,20 @@ int main(int argc, char **argv)
         PetscCall(VecNorm(pv, NORM_2, &npv));
         PetscCall(PetscPrintf(comm, "with Jacobi steps: u . PC(v) = %.15g, v . PC(u) = %.15g\n", (double)upv, (double)vpu));
         PetscCall(Check(comm, std::fabs(upv - vpu) <= 1e-12 * nu * npv, "  the PC with Jacobi steps is symmetric to 1e-12", 0));
+        // positive on the checkerboard, which an undamped Jacobi step sends to minus itself (D^-1 A v = 2 v on a walled
+        // grid: every neighbour has the other sign); the weight 2/3 keeps the smoother's part 2S - SAS positive there
+        PetscReal vpv, vv;
+        PetscCall(SetByNaturalIndex(da_s, v, n, [&](PetscInt q) {
+          const PetscInt i = q % n[0], j = (q / n[0]) % n[1], k = q / (n[0] * n[1]);
+          return (i + j + k) % 2 ? 1.0 : -1.0;
+        }));
+        PetscCall(PCApply(pc, v, pv));
+        PetscCall(VecDot(v, pv, &vpv));
+        PetscCall(VecNorm(pv, NORM_2, &npv));
+        PetscCall(VecNorm(v, NORM_2, &vv));
+        PetscCall(PetscPrintf(comm, "checkerboard v: v . PC(v) = %.6g of |v| |PC(v)|\n", (double)(vpv / (vv * npv))));
+        PetscCall(Check(comm, vpv > 0.05 * vv * npv,
+                        "  the PC with Jacobi steps is positive on the checkerboard (v . PC(v) > 0.05 |v| |PC(v)|)", 0));
         PetscCall(VecDestroy(&u));
         PetscCall(VecDestroy(&v));
         PetscCall(VecDestroy(&pu));
@@ -198,6 +213,13 @@ int main(int argc, char **argv)
       PetscCall(VecZeroEntries(y));
       PetscCall(KSPSolve(ksp, b, y));
       PetscCall(KSPGetIterationNumber(ksp, &its));
+      KSPConvergedReason reason;
+      PetscReal          lmax, lmin; // CG's Lanczos estimates of the preconditioned operator's extreme eigenvalues
+      PetscCall(KSPGetConvergedReason(ksp, &reason));
+      PetscCall(KSPComputeExtremeSingularValues(ksp, &lmax, &lmin));
+      PetscCall(PetscPrintf(comm, "  converged reason %s, eigenvalues of PC A in [%.4g, %.4g]\n", KSPConvergedReasons[reason], (double)lmin,
+                            (double)lmax));
+      PetscCall(Check(comm, reason > 0 && lmin > 0, "  CG converges and PC A is positive definite", (PetscInt)reason));
       PetscCall(LargestDifference(x, y, outlet, d, &emax, &mean));
       PetscCall(PetscPrintf(comm, "%s face coefficients, %s: %d CG iterations to 1e-10, largest error %.3g of max |x|\n",
                             contrast ? "jumping (0.005 at the floor cells, 0.19 packed, 1 above)" : "varying (0.19 below, 1 above)",
