@@ -23,5 +23,8 @@ PetscErrorCode FastPoissonRegister();
 // ownership), the face weights A_a / h_a (m) and whether the top face is a pressure outlet (phi = 0 half a cell above the
 // top centres). A no-op for a PC of another type.
 PetscErrorCode PCFastPoissonSetGrid(PC pc, DM da, const PetscReal weight[3], PetscBool outlet_top);
+// Whether pc is a fastpoisson PC and, if so, its set-ups so far, those with the Jacobi steps on, and the largest
+// coefficient contrast a set-up saw (the mean face coefficient over the smallest cell's).
+PetscErrorCode PCFastPoissonGetStats(PC pc, PetscBool *is_fp, PetscInt *setups, PetscInt *jacobi_setups, PetscReal *contrast_max);
 
 } // namespace fluidbed

@@ -447,6 +447,18 @@ PetscErrorCode FluidAddSummary(Fluid *f, JsonWriter *json)
   g.String("pc_type", pt);
   g.Integer("pressure_solves", (long long)s.solves);
   g.Integer("pressure_pc_setups", (long long)s.pc_setups);
+  {
+    PC        pc;
+    PetscBool is_fp;
+    PetscInt  setups = 0, jacobi_setups = 0;
+    PetscReal contrast_max = 0;
+    PetscCall(KSPGetPC(f->ksp, &pc));
+    PetscCall(PCFastPoissonGetStats(pc, &is_fp, &setups, &jacobi_setups, &contrast_max));
+    if (is_fp) {
+      g.Number("pressure_pc_contrast_max", contrast_max);
+      g.Integer("pressure_pc_jacobi_setups", (long long)jacobi_setups);
+    }
+  }
   g.Number("pressure_iterations_per_solve", s.solves ? (double)s.ksp_its_total / (double)s.solves : 0.0);
   g.Number("pressure_time_per_solve", s.solves ? s.ksp_time_total / (double)s.solves : 0.0);
   g.Integer("pressure_iterations_last", (long long)s.ksp_its);

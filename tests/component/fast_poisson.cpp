@@ -161,6 +161,7 @@ int main(int argc, char **argv)
       PetscCall(KSPCreate(comm, &ksp));
       PetscCall(KSPSetOptionsPrefix(ksp, jacobi ? "test_jacobi_" : "test_alone_"));
       PetscCall(PetscOptionsSetValue(NULL, "-test_jacobi_pc_fastpoisson_jacobi", "1"));
+      PetscCall(PetscOptionsSetValue(NULL, "-test_alone_pc_fastpoisson_jacobi", "0")); // not on by the contrast
       PetscCall(KSPSetType(ksp, KSPCG));
       PetscCall(KSPGetPC(ksp, &pc));
       PetscCall(PCSetType(pc, PCFASTPOISSON));
@@ -229,6 +230,23 @@ int main(int argc, char **argv)
       PetscCall(Check(comm, emax <= 1e-7 * xmax, "  and recovers x to 1e-7", 0));
       its_alone = its;
       PetscCall(KSPDestroy(&ksp));
+    }
+    { // unset, the Jacobi steps follow the contrast: on with the floor cells (about 15 here), off for the packed half alone (3.4)
+      PetscBool is_fp;
+      PetscInt  setups, jacobi_setups;
+      PetscReal contrast_max;
+      PetscCall(PCCreate(comm, &pc));
+      PetscCall(PCSetType(pc, PCFASTPOISSON));
+      PetscCall(PCFastPoissonSetGrid(pc, da_s, w, outlet));
+      PetscCall(PCSetOperators(pc, A, A));
+      PetscCall(PCSetFromOptions(pc));
+      PetscCall(PCSetUp(pc));
+      PetscCall(PCFastPoissonGetStats(pc, &is_fp, &setups, &jacobi_setups, &contrast_max));
+      PetscCall(PetscPrintf(comm, "by default: contrast %.4g, Jacobi steps %s\n", (double)contrast_max, jacobi_setups ? "on" : "off"));
+      PetscCall(Check(comm, is_fp && setups == 1 && (jacobi_setups == 1) == (bool)contrast,
+                      contrast ? "  the contrast turns the Jacobi steps on" : "  without floor cells the Jacobi steps stay off",
+                      jacobi_setups));
+      PetscCall(PCDestroy(&pc));
     }
   }
 

@@ -59,6 +59,7 @@ cases = [
     (["-fluid", "-fluid_p_pc_type", "bar"], ["-fluid_p_pc_type bar", "PC type", "hypre", "jacobi", "mg"]),
     (["-fluid", "-fluid_p_pc_fastpoisson_jacobi", "-fluid_p_pc_fastpoisson_jacobi_weight", "1"],
      ["-fluid_p_pc_fastpoisson_jacobi_weight = 1", "out of range", "(0, 1)"]),
+    (["-fluid", "-fluid_p_pc_fastpoisson_jacobi_contrast", "0.5"], ["-fluid_p_pc_fastpoisson_jacobi_contrast = 0.5", "out of range", "[1, inf]"]),
     (["-fluid", "-fluid_p_pc_type", "mg", "-fluid_p_mg_levels_ksp_type", "foo"], ["-fluid_p_mg_levels_ksp_type foo", "KSP type", "chebyshev"]),
     (["-fluid", "-fluid_p_mat_type", "foo"], ["-fluid_p_mat_type foo", "Mat type", "aij"]),
     (["-fluid", "-fluid_p_ksp_rtol", "abc"], ["-fluid_p_ksp_rtol", "abc"]),  # read by PETSc itself
