@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""The 550 um spouted beds' answers beside the seed's chapter-3 tables: expanded bed height (Table 3.4 single jet, by
-the expanded-volume method; Table 3.5 double and triple jets, by the cut-off solid fraction 0.1), the inputs of the
+"""The 550 um spouted beds' answers beside the seed's chapter-3 tables: expanded bed height by the method the seed used
+for each (Table 3.4: the cut-off solid fraction 0.1 at 1.6 U_mf, the expanded volume at 3 U_mf, where the fountain
+defeats the cut-off; Table 3.5 double and triple jets, the cut-off), the inputs of the
 counter-current circulation (Table 3.6: bulk solid fraction eq. 3.7, fraction of the bed moving down, mean downward
-speed) and the circulation rate of eq. 3.6 (the seed's computed from its Table 3.6 with rho_p = 2500 kg/m^3 and the
-distributor's 56.4 x 4.95 mm).
+speed; the bulk fraction of eq. 3.7 with the height of the seed's method, as its Table 3.6 has it) and the circulation
+rate of eq. 3.6 (ours and the seed's from the Table 3.6 inputs, with rho_p = 2500 kg/m^3 and the distributor's
+56.4 x 4.95 mm).
 
 Each run is a folder of scripts/validate.sh (its command.txt names examples/<scene>.opts; its analysis.h5 holds the
 solver's time averages, -average_start). Prints a markdown table per run; --json writes the rows.
@@ -23,9 +25,11 @@ RHO_P = 2500.0
 DISTRIBUTOR_AREA = 0.0564 * 0.00495  # m^2, Fig. 3.1
 
 # Tables 3.4-3.6 per scene: expanded bed height (mm) simulated and measured, the method the seed used for it, and the
-# Table 3.6 inputs (bulk solid fraction, fraction moving down, mean downward speed in m/s).
+# Table 3.6 inputs (bulk solid fraction, fraction moving down, mean downward speed in m/s). The seed's section 3.3: "The
+# expanded bed height for 1.6 U_mf comes out to be about 60.3 mm" from the cut-off 0.1 of Fig. 3.6; "For 3 U_mf, the
+# cut-off ... is not representative ... because of fountain formation", so 88.5 mm is the expanded volume.
 SEED = {
-    "spouted_550_jet1_u160": dict(h_sim=60.3, h_exp=55.4, method="volume", bulk=0.518, f_down=0.549, v_down=0.0328),
+    "spouted_550_jet1_u160": dict(h_sim=60.3, h_exp=55.4, method="cutoff", bulk=0.518, f_down=0.549, v_down=0.0328),
     "spouted_550_jet1_u301": dict(h_sim=88.5, h_exp=None, method="volume", bulk=0.353, f_down=0.451, v_down=0.117),
     "spouted_550_jet2_u160": dict(h_sim=58.22, h_exp=50.75, method="cutoff", bulk=0.536, f_down=0.558, v_down=0.0178),
     "spouted_550_jet2_u301": dict(h_sim=78.09, h_exp=None, method="cutoff", bulk=0.401, f_down=0.470, v_down=0.0623),
@@ -40,7 +44,7 @@ def die(message):
 
 
 def seed_circulation(s):
-    """eq. 3.6 with the seed's Table 3.6 inputs (kg/s)."""
+    """eq. 3.6 from Table 3.6's inputs, the seed's or ours (kg/s)."""
     return RHO_P * s["bulk"] * s["f_down"] * s["v_down"] * DISTRIBUTOR_AREA
 
 
@@ -68,13 +72,17 @@ def rows(run):
     s, m = SEED[scene], measures(run)
     h_key = "expanded_bed_height_volume" if s["method"] == "volume" else "expanded_bed_height_cutoff"
     other = "expanded_bed_height_cutoff" if s["method"] == "volume" else "expanded_bed_height_volume"
+    # eq. 3.7's bulk solid fraction with the height of the seed's method for this case (the seed's Table 3.6 values are
+    # m_bed / (rho_p h A_d) with its Table 3.4-3.5 heights: 0.518 from 60.3 mm, 0.353 from 88.5 mm), and eq. 3.6 with it
+    bulk = m["bulk_solid_fraction"] if s["method"] == "volume" else m["bulk_solid_fraction_cutoff"]
+    ours = dict(bulk=bulk, f_down=m["fraction_moving_down"], v_down=m["mean_downward_speed"])
     out = [("expanded bed height, %s method (mm)" % ("expanded-volume" if s["method"] == "volume" else "cut-off"), 1e3 * m[h_key], s["h_sim"],
             s["h_exp"]),
            ("expanded bed height, the other method (mm)", 1e3 * m[other], None, None),
-           ("bulk solid fraction (eq. 3.7)", m["bulk_solid_fraction"], s["bulk"], None),
+           ("bulk solid fraction (eq. 3.7, with the height above)", bulk, s["bulk"], None),
            ("fraction of the bed moving down", m["fraction_moving_down"], s["f_down"], None),
            ("mean downward speed (m/s)", m["mean_downward_speed"], s["v_down"], None),
-           ("solid circulation, eq. 3.6 (g/s)", 1e3 * m["solid_circulation"], 1e3 * seed_circulation(s), None)]
+           ("solid circulation, eq. 3.6 (g/s)", 1e3 * seed_circulation(ours), 1e3 * seed_circulation(s), None)]
     if "pressure_drop" in m:
         out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
     return scene, m, out

@@ -1,9 +1,9 @@
 """scripts/seed_tables.py sets a run's averaged measures beside the seed's Tables 3.4-3.6: a run of the single jet at
-1.6 U_mf whose analysis.h5 holds a bed 10% above the seed's 60.3 mm (expanded-volume method, Table 3.4) and the seed's
-own Table 3.6 inputs is reported as +10.0% and 0.0%, and its circulation of eq. 3.6 equals the seed's inputs'
-rho_p eps_sb f_neg |v_neg| A_d (computed here by hand: 2500 x 0.518 x 0.549 x 0.0328 x 0.0564 x 0.00495 kg/s); the
-double jet takes its height from the cut-off method (Table 3.5); a run of another scene or one without analysis.h5
-ends with exit status 2 and a message."""
+1.6 U_mf whose analysis.h5 holds a bed 10% above the seed's 60.3 mm (the cut-off method the seed used at 1.6 U_mf,
+Table 3.4) and the seed's own Table 3.6 inputs is reported as +10.0% and 0.0%, and its circulation of eq. 3.6 equals the
+seed's inputs' rho_p eps_sb f_neg |v_neg| A_d (computed here by hand: 2500 x 0.518 x 0.549 x 0.0328 x 0.0564 x 0.00495
+kg/s); the single jet at 3 U_mf takes its height from the expanded volume (the seed's 88.5 mm) and the double jet from
+the cut-off (Table 3.5); a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
 import json
 import os
 import subprocess
@@ -25,18 +25,26 @@ def fake_run(path, scene, measures):
             f.create_dataset("measures/" + k, data=[v])
 
 
-base = {"samples": 3000, "window_start": 5.0, "window_end": 8.0, "bulk_solid_fraction": 0.518, "fraction_moving_down": 0.549,
+base = {"samples": 3000, "window_start": 5.0, "window_end": 8.0, "bulk_solid_fraction": 0.40, "bulk_solid_fraction_cutoff": 0.518,
+        "fraction_moving_down": 0.549,
         "mean_downward_speed": 0.0328, "pressure_drop": 470.0}
 circ = 2500 * 0.518 * 0.549 * 0.0328 * 0.0564 * 0.00495
-fake_run("jet1", "spouted_550_jet1_u160", dict(base, expanded_bed_height_volume=0.06633, expanded_bed_height_cutoff=0.070, solid_circulation=circ))
+fake_run("jet1", "spouted_550_jet1_u160", dict(base, expanded_bed_height_volume=0.070, expanded_bed_height_cutoff=0.06633, solid_circulation=circ))
+fake_run("jet1_u301", "spouted_550_jet1_u301", dict(base, expanded_bed_height_volume=0.0885, expanded_bed_height_cutoff=0.050, solid_circulation=circ,
+                                                     bulk_solid_fraction=0.353))
 fake_run("jet2", "spouted_550_jet2_u160", dict(base, expanded_bed_height_volume=0.070, expanded_bed_height_cutoff=0.05822, solid_circulation=circ))
-p = subprocess.run([sys.executable, SCRIPT, "jet1", "jet2", "--json", "tables.json"], capture_output=True, text=True)
+p = subprocess.run([sys.executable, SCRIPT, "jet1", "jet2", "jet1_u301", "--json", "tables.json"], capture_output=True, text=True)
 print(p.stdout, p.stderr)
 t.check(p.returncode == 0, "the tables were printed (exit %d)" % p.returncode)
-t.check("| expanded bed height, expanded-volume method (mm) | 66.33 | 60.3 | 55.4 | +10.0% |" in p.stdout,
-        "the single jet's height: 66.33 mm against the seed's 60.3 (simulation) and 55.4 (experiment), +10.0%")
+t.check("| expanded bed height, cut-off method (mm) | 66.33 | 60.3 | 55.4 | +10.0% |" in p.stdout,
+        "the single jet's height at 1.6 U_mf by the cut-off: 66.33 mm against the seed's 60.3 (simulation) and 55.4 (experiment), +10.0%")
+t.check("| expanded bed height, expanded-volume method (mm) | 88.5 | 88.5 | - | +0.0% |" in p.stdout,
+        "the single jet's height at 3 U_mf by the expanded volume")
 t.check("| expanded bed height, cut-off method (mm) | 58.22 | 58.22 | 50.75 | +0.0% |" in p.stdout, "the double jet's height by the cut-off method")
-t.check("| bulk solid fraction (eq. 3.7) | 0.518 | 0.518 | - | +0.0% |" in p.stdout, "Table 3.6's bulk solid fraction beside ours")
+t.check("| bulk solid fraction (eq. 3.7, with the height above) | 0.518 | 0.518 | - | +0.0% |" in p.stdout,
+        "Table 3.6's bulk solid fraction beside ours, with the cut-off height at 1.6 U_mf (not the expanded volume's 0.40)")
+t.check("| bulk solid fraction (eq. 3.7, with the height above) | 0.353 | 0.353 | - | +0.0% |" in p.stdout,
+        "and with the expanded-volume height at 3 U_mf")
 rows = {r["quantity"]: r for r in json.load(open("tables.json"))[0]["rows"]}
 c = rows["solid circulation, eq. 3.6 (g/s)"]
 t.check(abs(c["seed_simulation"] - 1e3 * circ) < 1e-9 and abs(c["ours"] - 1e3 * circ) < 1e-9,
