@@ -33,6 +33,15 @@ Problems (each point is one fluidbed run, resumable and parallel like the stabil
              the particle grid's cells on the reference's gas grid (-pgrid_ratio, the map's ratio table --ratio-csv),
              and the spring stiffness -dem_kn on the two grids' 3 d cells (the map's kn table --kn-csv);
              uncertainty: the reference against its mirrored-start twin.
+  jet750     the seed's 750 um single jet at 3 U_mf (examples/twogrid_750_jet1_u301_wallmu050_coarse.opts: one 1.611 mm
+             slit at 45.3 m/s, wall friction 0.5, closed top) as a 2D pseudo-bed one particle deep (6,894 particles,
+             settled without gas first, JET750_SETTLE), spouting, averaged over 0.5-1 s: the fountain height in the jet
+             column (solid fraction 0.05, scripts/jet_fountain.py), the pressure drop and the largest upward particle
+             velocity in the jet column, each against the finest affordable reference (the seed's fine 175 x 200 gas
+             grid, particle cells of 7 x 2 of its cells, t_cr/20); the error is the largest of the three (each in the
+             table); knobs the gas grid (the fine one and the seed's coarse 105 x 150 of its grid-sensitivity study,
+             particle cells of 5 x 2) with the step; uncertainty: the coarse grid at t_cr/10 against its mirrored-start
+             twin (what two realizations of one setting differ by).
 Cost: wall seconds per simulated second per core (summary.json), with cpu_share, the processor time the run had over its
 wall time x ranks (below 1 where it waited for its core on a loaded machine, or for its writes). Each problem's Pareto front (no other point both
 cheaper and more accurate) is marked in --png; the table goes to --csv. docs/speed_accuracy.md has the results.
@@ -326,6 +335,75 @@ def jet2d_rows(path):
     return rows
 
 
+JET750_LX = 0.0564  # m, the bed's width
+JET750_X = 0.0282  # m, the slit's centre
+JET750_WINDOW = (0.5, 1.0)  # s: the spouting window averaged
+JET750_SETTLE = ["-domain_dim", 2, "-domain_lx", JET750_LX, "-domain_ly", 0.28, "-domain_lz", 0.00075, "-particle_diameter", 7.5e-4,
+                 "-particle_density", 2500, "-dem_kn", 800, "-dem_e", 0.9, "-dem_mu", 0.1, "-wall_mu", 0.5, "-dem_dt_factor", 0.1,
+                 "-insert_type", "lattice", "-insert_count", 6894, "-insert_spacing", 1.05, "-insert_jitter", 0.5, "-insert_seed", 750,
+                 "-t_final", 0.3, "-output_interval", 0, "-checkpoint_interval", 0]
+JET750_GRIDS = {175: (175, 200, "7,2"), 105: (105, 150, "5,2")}  # gas cells x, y and particle cells (gas cells per particle cell)
+JET750_REFERENCE = {"cells_x": 175, "dt_factor": 0.05, "mirror": 0}
+JET750_TWINS = ({"cells_x": 105, "dt_factor": 0.1, "mirror": 0}, {"cells_x": 105, "dt_factor": 0.1, "mirror": 1})
+
+
+def jet750_bed(out_dir, mirror, exe):
+    """The settled one-layer bed (particles.csv of JET750_SETTLE, run once under out_dir), or its mirror image about
+    the bed's centre plane x = LX / 2 (positions and the velocities' x components reflected, spins as an axial vector)."""
+    settle = os.path.join(out_dir, "jet750_settle")
+    s, status, _, _ = study.run(JET750_SETTLE, settle, 1, exe)
+    if not s or s["status"] not in ("ok", "warned"):
+        raise SystemExit("speed_accuracy.py: the jet750 bed did not settle (exit %s, %s)" % (status, settle))
+    path = os.path.join(settle, "particles.csv")
+    if not mirror:
+        return path
+    mirrored = os.path.join(settle, "particles_mirrored.csv")
+    if not os.path.exists(mirrored):
+        outputs.mirror_particles(path, mirrored, JET750_LX)
+    return mirrored
+
+
+def jet750_options(k, out_dir=None, exe=run.EXE):
+    nx, ny, ratio = JET750_GRIDS[int(k["cells_x"])]
+    bed = jet750_bed(out_dir, int(k["mirror"]), exe) if out_dir else "settled.csv"
+    return ["-options_file", os.path.join(EX, "twogrid_750_jet1_u301_wallmu050_coarse.opts"), "-domain_dim", 2, "-domain_lz", 0.00075,
+            "-grid_nx", nx, "-grid_ny", ny, "-pgrid_ratio", ratio, "-dem_dt_factor", k["dt_factor"], "-insert_type", "file", "-insert_file", bed,
+            "-domain_top_outlet", 0, "-t_final", JET750_WINDOW[1], "-average_start", JET750_WINDOW[0], "-output_interval", 0,
+            "-output_particles", 0, "-checkpoint_interval", 0.25]
+
+
+def jet750_measures(out):
+    """The fountain height at solid fraction 0.05 in the jet column, the time-averaged pressure drop and the largest
+    upward particle velocity in the jet column, over the run's averaging window (None before the run has averaged)."""
+    import jet_fountain
+    from fluidbed_tools import plot as fp
+    if not os.path.exists(os.path.join(out, "analysis.h5")) or not os.path.exists(os.path.join(out, "summary.json")):
+        return None
+    a = fp.read_analysis(out)
+    _, _, y, sf, vy = jet_fountain.jet_column(a, JET750_X)
+    return {"fountain": jet_fountain.fountain_height(y, sf, 0.05), "dp": outputs.summary(out)["averages"]["pressure_drop_mean_Pa"],
+            "v_jet": float(np.nanmax(vy))}
+
+
+def jet750_difference(m, r):
+    """Relative differences of measures m from r: each of the three and their largest."""
+    d = {key: abs(m[key] / r[key] - 1) for key in ("fountain", "dp", "v_jet")}
+    return max(d.values()), d
+
+
+def jet750_error(out, k):
+    """Against the reference point (its run in the same study folder), with the twins' difference as the uncertainty;
+    NaN until the reference has run. The measures and each one's error go to the table as well."""
+    here = os.path.dirname(out)
+    m, r = jet750_measures(out), jet750_measures(os.path.join(here, point_id("jet750", JET750_REFERENCE)))
+    if m is None or r is None:
+        return float("nan"), float("nan"), m or {}
+    t0, t1 = (jet750_measures(os.path.join(here, point_id("jet750", t))) for t in JET750_TWINS)
+    unc = jet750_difference(t1, t0)[0] if t0 and t1 else float("nan")
+    err, parts = jet750_difference(m, r)
+    return err, unc, dict(m, **{"err_" + key: v for key, v in parts.items()})
+
+
 PROBLEMS = {
     "bounce": {"options": bounce_options, "error": bounce_error, "defaults": {"dt_factor": 0.1, "kn": 800},
                "knobs": {"dt_factor": [0.5, 0.3, 0.2, 0.1, 0.05, 0.02], "kn": [800, 400, 200, 100, 50]}},
@@ -336,6 +414,12 @@ PROBLEMS = {
                          "kn": [200, 50]}},
     "muller": {"options": muller_options, "error": muller_error, "defaults": {"dt_factor": 0.1, "substeps": 1},
                "knobs": {"dt_factor": [0.3, 0.2, 0.1, 0.05], "substeps": [1, 2, 4], "kn": [200, 50]}},
+    # the gas grid and the step together (the fine grid's jet needs t_cr/20: t_cr/10 trips the Courant guard in 3D),
+    # the reference first, then the twins
+    "jet750": {"options": jet750_options, "error": jet750_error, "defaults": JET750_REFERENCE, "needs_dir": True,
+               "points": [("grid_dt", JET750_REFERENCE), ("grid_dt", dict(JET750_REFERENCE, dt_factor=0.1))]
+               + [("mirror", t) for t in JET750_TWINS]
+               + [("grid_dt", {"cells_x": 105, "dt_factor": f, "mirror": 0}) for f in (0.05, 0.25)]},
 }
 
 
@@ -345,6 +429,9 @@ def points(problems, ci):
         pr = PROBLEMS[name]
         if ci:
             return [(name, "dt_factor", dict(pr["defaults"], dt_factor=f)) for f in (0.2, 0.1, 0.05)]
+        if "points" in pr:
+            pts += [(name, knob, dict(k)) for knob, k in pr["points"]]
+            continue
         seen = set()
         for knob, values in pr["knobs"].items():
             for v in values:
@@ -377,13 +464,15 @@ def plot(rows, path):
     fig, axes = plt.subplots(nrows, ncols, figsize=(5 * ncols, 4.5 * nrows), squeeze=False)
     for ax in axes.flat[len(probs):]:
         ax.axis("off")
-    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt", "pgrid_ratio"], "osD^vPX*"))
+    markers = dict(zip(["dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cell_dt", "pgrid_ratio", "grid_dt", "mirror"], "osD^vPX*hp"))
 
     def label(r, knob):
         if knob == "pgrid_ratio":
             return r["cell"].split(", ")[-1]
         if knob == "kn" and "gas steps" in (r.get("cell") or ""):
             return "%g, %s" % (r["kn"], r["cell"].split(", ")[-1].replace(" per DEM step", ""))
+        if knob in ("grid_dt", "mirror"):
+            return "%d cells, dt %g%s" % (r["cells_x"], r["dt_factor"], ", mirrored" if r.get("mirror") else "")
         return "%s, dt %g" % (r["cell"], r["dt_factor"]) if knob == "cell_dt" else "%g" % r[knob]
 
     for ax, name in zip(axes.flat, probs):
@@ -440,14 +529,22 @@ def main():
     problems = [p for p in problems if p != "jet2d"]
     os.makedirs(args.out, exist_ok=True)
 
+    def options_of(name, k):
+        """A point's options; a problem whose runs start from a bed of its own (jet750) makes it in the study folder."""
+        if PROBLEMS[name].get("needs_dir"):
+            return PROBLEMS[name]["options"](k, args.out, args.exe)
+        return PROBLEMS[name]["options"](k)
+
     def work(pt):
         name, knob, k = pt
         out = os.path.join(args.out, point_id(name, k))
-        s, status, wall, reused = study.run(PROBLEMS[name]["options"](k), out, args.ranks, args.exe, fresh=args.fresh)
+        s, status, wall, reused = study.run(options_of(name, k), out, args.ranks, args.exe, fresh=args.fresh)
         row = {"problem": name, "knob": knob, "id": point_id(name, k), "status": s["status"] if s else "failed", "exit_status": status}
         row.update(k)
         if s and s["status"] != "stopped" and s["time"] > 0:
-            row["error"], row["uncertainty"] = PROBLEMS[name]["error"](out, k)
+            res = PROBLEMS[name]["error"](out, k)  # (error, uncertainty[, more columns])
+            row["error"], row["uncertainty"] = res[0], res[1]
+            row.update(res[2] if len(res) > 2 else {})
             row["cost"], row["cpu_share"] = outputs.run_cost(s)
             row["steps"] = s["steps"]
             row["overlap_max"] = s.get("guard_figures", {}).get("overlap_max", float("nan"))
@@ -466,7 +563,7 @@ def main():
                                                                                                           ",".join(sorted(known))))
         pts = [known[x] for x in order]
     if args.report:
-        pts = [pt for pt in pts if run.done(PROBLEMS[pt[0]]["options"](pt[2]), os.path.join(args.out, point_id(pt[0], pt[2])), args.ranks, args.exe)]
+        pts = [pt for pt in pts if run.done(options_of(pt[0], pt[2]), os.path.join(args.out, point_id(pt[0], pt[2])), args.ranks, args.exe)]
     for pt, (row, reused) in study.run_all(pts, args.jobs, work):
         rows.append(row)
         study.log("%-60s error %.3e cost %.3g%s" % (row["id"], row["error"], row["cost"], " (reused)" if reused else ""))
@@ -504,8 +601,9 @@ def main():
                     r[k] = float("nan")
     pareto(rows)
     rows.sort(key=lambda r: (r["problem"], r["knob"], r["id"]))
-    keys = ["problem", "knob", "id", "cell", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "status", "exit_status", "error", "uncertainty",
-            "cost", "cpu_share", "steps", "overlap_max", "pareto"]
+    keys = ["problem", "knob", "id", "cell", "dt_factor", "kn", "substeps", "rtol", "pc_reuse", "window", "cells_x", "mirror", "status", "exit_status",
+            "error", "uncertainty", "cost", "cpu_share", "steps", "overlap_max", "fountain", "dp", "v_jet", "err_fountain", "err_dp", "err_v_jet",
+            "pareto"]
     os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
     with open(args.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")

@@ -273,17 +273,7 @@ def settle(args):
         sys.exit("stability_map: settling the bed failed (exit %d), see %s/stdout.txt" % (status, os.path.dirname(path)))
     mirror = path.replace(".csv", "_mirror.csv")
     if not os.path.isfile(mirror) or not reused:
-        rows = list(csv.reader(open(path)))
-        head = rows[0]
-        ix, ivx, iwz = head.index("x"), head.index("vx"), head.index("wz")
-        with open(mirror, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(head)
-            for r in rows[1:]:
-                r[ix] = repr(LX - float(r[ix]))
-                r[ivx] = repr(-float(r[ivx]))
-                r[iwz] = repr(-float(r[iwz]))
-                w.writerow(r)
+        outputs.mirror_particles(path, mirror, LX)
     study.log("settled bed: %d particles (%s)" % (s["particles"], "reused" if reused else "settled for %g s" % args.settle))
     path3d = args.bed3d
     if "3d" in args.maps.split(",") and not path3d:

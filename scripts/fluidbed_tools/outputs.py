@@ -1,5 +1,6 @@
 """Reading a run's output files: the CSV tables (monitor.csv, particles.csv, track.csv, fluid_cells.csv),
 summary.json and the HDF5 files (analysis.h5, snapshot_NNNNN.h5, checkpoint.h5). numpy; h5py for the HDF5 files."""
+import csv
 import json
 import os
 import re
@@ -67,3 +68,19 @@ def run_options(run, defaults):
             except ValueError:
                 pass
     return opts
+
+
+def mirror_particles(src, dst, lx):
+    """A particles.csv (or any CSV with those columns) reflected about the plane x = lx / 2: x -> lx - x, the x components of velocity and force
+    negated, and the spin as the axial vector it is (its y and z components negated, x kept)."""
+    rows = list(csv.DictReader(open(src)))
+    for r in rows:
+        r["x"] = repr(lx - float(r["x"]))
+        for key in ("vx", "fx", "wy", "wz"):
+            if key in r:
+                r[key] = repr(-float(r[key]))
+    with open(dst + ".part", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(dst + ".part", dst)
