@@ -376,9 +376,24 @@ PetscErrorCode SimulationRun(Simulation *sim)
       (long long)fs.steps, (double)sim->time, sim->wall_run, fs.solves ? (double)fs.ksp_its_total / (double)fs.solves : 0.0,
       fs.solves ? 1e3 * fs.ksp_time_total / (double)fs.solves : 0.0, (double)fs.max_div, (double)fs.inflow, (double)fs.outflow));
   }
-  if (!sim->guards->trips.empty())
-    PetscCall(PetscPrintf(sim->comm, "Guards tripped under -guard_action warn: %d (summary.json \"guard_trips\")\n",
-                          (int)sim->guards->trips.size()));
+  if (!sim->guards->trips.empty()) {
+    // each guard is reported once while the run goes on: name them again at the end, with what the gas could not do
+    std::string list;
+    for (const GuardTrip &t : sim->guards->trips) {
+      char one[160];
+      PetscCall(PetscSNPrintf(one, sizeof(one), "%s%s (first at step %lld, t = %.6g s)", list.empty() ? "" : ", ", GuardNames[t.kind],
+                              (long long)t.step, (double)t.time));
+      list += one;
+    }
+    if (sim->fluid && FluidGetStats(sim->fluid).ksp_failures > 0) {
+      char more[96];
+      PetscCall(
+        PetscSNPrintf(more, sizeof(more), "; %lld pressure solves did not converge", (long long)FluidGetStats(sim->fluid).ksp_failures));
+      list += more;
+    }
+    PetscCall(PetscPrintf(
+      sim->comm, "WARNING: guards tripped and the run went on (-guard_action warn): %s (summary.json \"guard_trips\")\n", list.c_str()));
+  }
   if (interrupted)
     PetscCall(PetscPrintf(sim->comm, "Interrupted by signal %d at step %lld, t = %.6g s, before -t_final %.6g s (exit status %d): %s\n",
                           interrupted, (long long)sim->step, (double)sim->time, (double)sim->run.t_final, sim->exit_status,

@@ -135,6 +135,14 @@ out, p = t.run(jetted, args=fine_grid + ["-max_steps", "20", "-pgrid_ratio", "2,
 s = t.summary(out)
 t.check(s["status"] == "warned" and "void_fraction" in s["guard_trips"] and "WARNING: guard 'void_fraction'" in p.stdout,
         "-guard_action warn: exit 0, status %s, trips %s" % (s["status"], sorted(s["guard_trips"])))
+t.check("WARNING: guards tripped and the run went on (-guard_action warn): void_fraction (first at step %d" % s["guard_trips"]["void_fraction"]
+        in p.stdout, "-guard_action warn: the run's last lines name the guard again, with its first step")
+# warned pressure failures are counted at the end (each guard is reported once while the run goes on)
+out, p = t.run(jetted, args=["-max_steps", "20", "-fluid_p_ksp_max_it", "1", "-guard_action", "warn"], outdir="pressure_warn")
+s = t.summary(out)
+fails = s["guard_figures"]["pressure_failures"]
+t.check(s["status"] == "warned" and fails > 1 and ("%d pressure solves did not converge" % fails) in p.stdout,
+        "-guard_action warn with failing pressure solves: the last lines count them (%d)" % fails)
 
 # Pressure: a KSP held to one iteration
 stopped("pressure", jetted, ["-max_steps", "20", "-fluid_p_ksp_max_it", "1"], "pressure", ["did not converge", "-fluid_p_ksp_max_it 1"])
