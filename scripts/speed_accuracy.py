@@ -490,13 +490,20 @@ def plot(rows, path):
 
     for ax, name in zip(axes.flat, probs):
         rs = [r for r in rows if r["problem"] == name and r["error"] == r["error"]]
+        # the reference point (error 0) sits at half the panel's smallest error, not at an arbitrary floor that
+        # would stretch the log axis over decades no point occupies
+        nonzero = [r["error"] for r in rs if r["error"] > 0]
+        floor = 0.5 * min(nonzero) if nonzero else 1e-7
+
+        def y(r):
+            return max(r["error"], floor)
         for knob in sorted({r["knob"] for r in rs}):
             pts = [r for r in rs if r["knob"] == knob]
-            ax.scatter([r["cost"] for r in pts], [max(r["error"], 1e-7) for r in pts], marker=markers.get(knob, "o"), label=knob, alpha=0.8)
+            ax.scatter([r["cost"] for r in pts], [y(r) for r in pts], marker=markers.get(knob, "o"), label=knob, alpha=0.8)
             for r in pts:
-                ax.annotate(label(r, knob), (r["cost"], max(r["error"], 1e-7)), fontsize=6, xytext=(3, 3), textcoords="offset points")
+                ax.annotate(label(r, knob) + (" (reference)" if r["error"] == 0 else ""), (r["cost"], y(r)), fontsize=6, xytext=(3, 3), textcoords="offset points")
         front = sorted((r for r in rs if r["pareto"]), key=lambda r: r["cost"])
-        ax.plot([r["cost"] for r in front], [max(r["error"], 1e-7) for r in front], "k--", lw=1, label="Pareto front")
+        ax.plot([r["cost"] for r in front], [y(r) for r in front], "k--", lw=1, label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("cost: wall s per core for the answer (1 s settling + window)" if name in ("muller_window", "muller_profile_window",
@@ -504,7 +511,9 @@ def plot(rows, path):
                       "cost: wall s per simulated s per core")
         unc = [r for r in rs if (r.get("uncertainty") or 0) > 0]
         if unc:
-            ax.errorbar([r["cost"] for r in unc], [max(r["error"], 1e-7) for r in unc], yerr=[r["uncertainty"] for r in unc], fmt="none",
+            # the bar's lower end is clipped to the floor: an uncertainty larger than the error reaches zero
+            ax.errorbar([r["cost"] for r in unc], [y(r) for r in unc],
+                        yerr=[[y(r) - max(y(r) - r["uncertainty"], floor) for r in unc], [r["uncertainty"] for r in unc]], fmt="none",
                         ecolor="grey", lw=0.8)
         ax.set_ylabel("relative error")
         ax.set_title(name)
