@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The 550 um spouted beds' answers beside the seed's chapter-3 tables: expanded bed height by the method the seed used
+"""The 550 um spouted beds' answers beside the seed's chapter-3 tables (and the nine-jet 2D bed's beside chapter 4's
+figures: expanded bed height, bulk solid fraction, jet height): expanded bed height by the method the seed used
 for each (Table 3.4: the cut-off solid fraction 0.1 at 1.6 U_mf, the expanded volume at 3 U_mf, where the fountain
 defeats the cut-off; Table 3.5 double and triple jets, the cut-off), the inputs of the
 counter-current circulation (Table 3.6: bulk solid fraction eq. 3.7, fraction of the bed moving down, mean downward
@@ -36,6 +37,13 @@ SEED = {
     "spouted_550_jet3_u160": dict(h_sim=63.35, h_exp=58.74, method="cutoff", bulk=0.493, f_down=0.461, v_down=0.0349),
     "spouted_550_jet3_u301": dict(h_sim=84.93, h_exp=None, method="cutoff", bulk=0.368, f_down=0.462, v_down=0.0671),
 }
+# Chapter 4, the nine-jet 2D bed (case A1 2D), time averages over the last 3.38 of 8.38 s: the expanded bed height
+# "close to 150 mm in the 2D simulation ... close to 174 mm in the experiment" (Fig. 4.12, read off a plot: the
+# cut-off is ours), the bulk solid fraction M_p / (rho_p A_c h_exp) 0.527 (2D) against 0.476, and the jet height,
+# the mean over the nine jets of the height where the first bubble detaches, 22.1 mm against 21.32 +- 1.70 mm.
+SEED_CH4 = {
+    "ninejet_2d": dict(h_sim=150.0, h_exp=174.0, bulk_sim=0.527, bulk_exp=0.476, jet_sim=22.1, jet_exp=21.32),
+}
 
 
 def die(message):
@@ -53,8 +61,8 @@ def scene_of(run):
     if not os.path.isfile(path):
         die("%s has no command.txt: not a run of scripts/validate.sh" % run)
     m = re.search(r"examples/([A-Za-z0-9_]+)\.opts", open(path).read())
-    if not m or m.group(1) not in SEED:
-        die("%s: scene %s is not one of the seed's 550 um spouted beds (%s)" % (run, m.group(1) if m else "unknown", ", ".join(SEED)))
+    if not m or (m.group(1) not in SEED and m.group(1) not in SEED_CH4):
+        die("%s: scene %s is not one of the seed's tabled beds (%s)" % (run, m.group(1) if m else "unknown", ", ".join(list(SEED) + list(SEED_CH4))))
     return m.group(1)
 
 
@@ -69,6 +77,8 @@ def measures(run):
 def rows(run):
     """The table's rows for one run: (quantity, ours, seed's simulation, seed's experiment)."""
     scene = scene_of(run)
+    if scene in SEED_CH4:
+        return scene, *rows_chapter4(SEED_CH4[scene], measures(run))
     s, m = SEED[scene], measures(run)
     h_key = "expanded_bed_height_volume" if s["method"] == "volume" else "expanded_bed_height_cutoff"
     other = "expanded_bed_height_cutoff" if s["method"] == "volume" else "expanded_bed_height_volume"
@@ -86,6 +96,21 @@ def rows(run):
     if "pressure_drop" in m:
         out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
     return scene, m, out
+
+
+def rows_chapter4(s, m):
+    """The nine-jet bed's rows: the cut-off height, eq. 3.7's bulk fraction with it (the seed's M_p / (rho_p A_c h_exp)),
+    the jets' mean height before a bubble detaches (the mean over the jets that shed bubbles) and the pressure drop."""
+    out = [("expanded bed height, cut-off method (mm)", 1e3 * m["expanded_bed_height_cutoff"], s["h_sim"], s["h_exp"]),
+           ("expanded bed height, expanded-volume method (mm)", 1e3 * m["expanded_bed_height_volume"], None, None),
+           ("bulk solid fraction (M_p / rho_p A h, the cut-off height)", m["bulk_solid_fraction_cutoff"], s["bulk_sim"], s["bulk_exp"])]
+    if "jet_penetration_height" in m:
+        out += [("jet height, first bubble detachment, mean over the jets (mm)", 1e3 * m["jet_penetration_height"], s["jet_sim"], s["jet_exp"]),
+                ("jet height's standard deviation (mm)", 1e3 * m["jet_penetration_height_std"], None, 1.70),
+                ("bubble detachments, all jets", m["jet_detachments"], None, None)]
+    if "pressure_drop" in m:
+        out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
+    return m, out
 
 
 def fmt(x):

@@ -3,7 +3,7 @@
 Table 3.4) and the seed's own Table 3.6 inputs is reported as +10.0% and 0.0%, and its circulation of eq. 3.6 equals the
 seed's inputs' rho_p eps_sb f_neg |v_neg| A_d (computed here by hand: 2500 x 0.518 x 0.549 x 0.0328 x 0.0564 x 0.00495
 kg/s); the single jet at 3 U_mf takes its height from the expanded volume (the seed's 88.5 mm) and the double jet from
-the cut-off (Table 3.5); a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
+the cut-off (Table 3.5); the nine-jet 2D bed is set beside chapter 4's height, bulk fraction and jet height; a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
 import json
 import os
 import subprocess
@@ -49,6 +49,20 @@ rows = {r["quantity"]: r for r in json.load(open("tables.json"))[0]["rows"]}
 c = rows["solid circulation, eq. 3.6 (g/s)"]
 t.check(abs(c["seed_simulation"] - 1e3 * circ) < 1e-9 and abs(c["ours"] - 1e3 * circ) < 1e-9,
         "eq. 3.6 from the seed's Table 3.6: %.4f g/s (by hand %.4f)" % (c["seed_simulation"], 1e3 * circ))
+
+# the nine-jet 2D bed against chapter 4: a bed 10% above the seed's 150 mm, its bulk fraction, the jets' mean height
+fake_run("ninejet", "ninejet_2d", dict(samples=3381, window_start=5.0, window_end=8.38, expanded_bed_height_cutoff=0.165,
+                                        expanded_bed_height_volume=0.170, bulk_solid_fraction_cutoff=0.479, jet_penetration_height=0.02431,
+                                        jet_penetration_height_std=0.004, jet_detachments=900, pressure_drop=1000.0))
+p = subprocess.run([sys.executable, SCRIPT, "ninejet"], capture_output=True, text=True)
+print(p.stdout, p.stderr)
+t.check(p.returncode == 0, "the nine-jet table was printed (exit %d)" % p.returncode)
+t.check("| expanded bed height, cut-off method (mm) | 165 | 150 | 174 | +10.0% |" in p.stdout,
+        "the nine-jet bed's height against the seed's 150 mm (2D simulation) and 174 mm (experiment)")
+t.check("| jet height, first bubble detachment, mean over the jets (mm) | 24.31 | 22.1 | 21.32 | +10.0% |" in p.stdout,
+        "the jets' height against the seed's 22.1 mm and the experiment's 21.32 mm")
+t.check("| bulk solid fraction (M_p / rho_p A h, the cut-off height) | 0.479 | 0.527 | 0.476 | -9.1% |" in p.stdout,
+        "the bulk solid fraction against the seed's 0.527 (2D) and 0.476 (experiment)")
 
 fake_run("muller", "muller_bed_u060", base)
 os.makedirs("no_analysis", exist_ok=True)
