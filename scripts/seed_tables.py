@@ -56,14 +56,20 @@ def seed_circulation(s):
     return RHO_P * s["bulk"] * s["f_down"] * s["v_down"] * DISTRIBUTOR_AREA
 
 
-def scene_of(run):
+def scene_name(run):
+    """The scene of a run of scripts/validate.sh (examples/<scene>.opts in its command.txt), or None."""
     path = os.path.join(run, "command.txt")
-    if not os.path.isfile(path):
+    m = re.search(r"examples/([A-Za-z0-9_]+)\.opts", open(path).read()) if os.path.isfile(path) else None
+    return m.group(1) if m else None
+
+
+def scene_of(run):
+    if not os.path.isfile(os.path.join(run, "command.txt")):
         die("%s has no command.txt: not a run of scripts/validate.sh" % run)
-    m = re.search(r"examples/([A-Za-z0-9_]+)\.opts", open(path).read())
-    if not m or (m.group(1) not in SEED and m.group(1) not in SEED_CH4):
-        die("%s: scene %s is not one of the seed's tabled beds (%s)" % (run, m.group(1) if m else "unknown", ", ".join(list(SEED) + list(SEED_CH4))))
-    return m.group(1)
+    scene = scene_name(run)
+    if scene not in SEED and scene not in SEED_CH4:
+        die("%s: scene %s is not one of the seed's tabled beds (%s)" % (run, scene or "unknown", ", ".join(list(SEED) + list(SEED_CH4))))
+    return scene
 
 
 def measures(run):

@@ -44,6 +44,14 @@ for name in ("plot_void_fraction.py", "plot_velocity.py", "plot_profiles.py", "p
     if name == "plot_bars.py":
         script(name, gas, dem, "-o", "plots/bars.png", "--labels", "jet,dem")
         png("plots/bars.png", name)
+        # --seed: beside a run of the seed's single jet (the coupled run's analysis.h5 under that scene's name) the
+        # seed's circulation bar, beside the other run none
+        import shutil
+        os.makedirs("seed_jet1", exist_ok=True)
+        shutil.copy(os.path.join(gas, "analysis.h5"), "seed_jet1/analysis.h5")
+        open("seed_jet1/command.txt", "w").write("fluidbed -options_file examples/spouted_550_jet1_u160.opts\n")
+        script(name, "seed_jet1", dem, "-o", "plots/bars_seed.png", "--seed")
+        png("plots/bars_seed.png", name + " --seed")
         continue
     script(name, gas, "plots/gas.png")
     png("plots/gas.png", name + " (coupled run)")
