@@ -33,9 +33,17 @@ fake_run("jet1", "spouted_550_jet1_u160", dict(base, expanded_bed_height_volume=
 fake_run("jet1_u301", "spouted_550_jet1_u301", dict(base, expanded_bed_height_volume=0.0885, expanded_bed_height_cutoff=0.050, solid_circulation=circ,
                                                      bulk_solid_fraction=0.353))
 fake_run("jet2", "spouted_550_jet2_u160", dict(base, expanded_bed_height_volume=0.070, expanded_bed_height_cutoff=0.05822, solid_circulation=circ))
-p = subprocess.run([sys.executable, SCRIPT, "jet1", "jet2", "jet1_u301", "--json", "tables.json"], capture_output=True, text=True)
-print(p.stdout, p.stderr)
-t.check(p.returncode == 0, "the tables were printed (exit %d)" % p.returncode)
+
+
+def tables(*args):
+    """Runs seed_tables.py and checks it printed its tables."""
+    p = subprocess.run([sys.executable, SCRIPT] + list(args), capture_output=True, text=True)
+    print(p.stdout, p.stderr)
+    t.check(p.returncode == 0, "the tables of %s were printed (exit %d)" % (" ".join(args), p.returncode))
+    return p
+
+
+p = tables("jet1", "jet2", "jet1_u301", "--json", "tables.json")
 t.check("| expanded bed height, cut-off method (mm) | 66.33 | 60.3 | 55.4 | +10.0% |" in p.stdout,
         "the single jet's height at 1.6 U_mf by the cut-off: 66.33 mm against the seed's 60.3 (simulation) and 55.4 (experiment), +10.0%")
 t.check("| expanded bed height, expanded-volume method (mm) | 88.5 | 88.5 | - | +0.0% |" in p.stdout,
@@ -54,9 +62,7 @@ t.check(abs(c["seed_simulation"] - 1e3 * circ) < 1e-9 and abs(c["ours"] - 1e3 * 
 fake_run("ninejet", "ninejet_2d", dict(samples=3381, window_start=5.0, window_end=8.38, expanded_bed_height_cutoff=0.165,
                                         expanded_bed_height_volume=0.170, bulk_solid_fraction_cutoff=0.479, jet_penetration_height=0.02431,
                                         jet_penetration_height_std=0.004, jet_detachments=900, pressure_drop=1000.0))
-p = subprocess.run([sys.executable, SCRIPT, "ninejet"], capture_output=True, text=True)
-print(p.stdout, p.stderr)
-t.check(p.returncode == 0, "the nine-jet table was printed (exit %d)" % p.returncode)
+p = tables("ninejet")
 t.check("| expanded bed height, cut-off method (mm) | 165 | 150 | 174 | +10.0% |" in p.stdout,
         "the nine-jet bed's height against the seed's 150 mm (2D simulation) and 174 mm (experiment)")
 t.check("| jet height, first bubble detachment, mean over the jets (mm) | 24.31 | 22.1 | 21.32 | +10.0% |" in p.stdout,
