@@ -26,12 +26,13 @@ def main():
         fp.die("--labels: %d labels for %d runs" % (len(labels), len(args.runs)))
     values = {"solid_circulation": [], "convective_power": [], "diffusive_power": []}
     seed = []  # the seed's circulation per run (kg/s), NaN where the run is not one of its tabled beds
+    if args.seed:
+        import seed_tables  # beside this script
     for run in args.runs:
         a = fp.read_analysis(run)
         for k in values:
             values[k].append(float(a["measures/" + k][0]))
         if args.seed:
-            import seed_tables  # beside this script
             scene = seed_tables.scene_name(run)
             seed.append(seed_tables.seed_circulation(seed_tables.SEED[scene]) if scene in seed_tables.SEED else float("nan"))
     fig, axes = plt.subplots(1, 3, figsize=(4 + 2 * len(labels), 4.5))

@@ -99,9 +99,7 @@ def rows(run):
            ("fraction of the bed moving down", m["fraction_moving_down"], s["f_down"], None),
            ("mean downward speed (m/s)", m["mean_downward_speed"], s["v_down"], None),
            ("solid circulation, eq. 3.6 (g/s)", 1e3 * seed_circulation(ours), 1e3 * seed_circulation(s), None)]
-    if "pressure_drop" in m:
-        out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
-    return scene, m, out
+    return scene, m, out + pressure_drop_row(m)
 
 
 def rows_chapter4(s, m):
@@ -114,9 +112,12 @@ def rows_chapter4(s, m):
         out += [("jet height, first bubble detachment, mean over the jets (mm)", 1e3 * m["jet_penetration_height"], s["jet_sim"], s["jet_exp"]),
                 ("jet height's standard deviation (mm)", 1e3 * m["jet_penetration_height_std"], None, 1.70),
                 ("bubble detachments, all jets", m["jet_detachments"], None, None)]
-    if "pressure_drop" in m:
-        out.append(("pressure drop (Pa)", m["pressure_drop"], None, None))
-    return m, out
+    return m, out + pressure_drop_row(m)
+
+
+def pressure_drop_row(m):
+    """The pressure drop's row where the run measured one (the seed gives it as a figure only)."""
+    return [("pressure drop (Pa)", m["pressure_drop"], None, None)] if "pressure_drop" in m else []
 
 
 def fmt(x):

@@ -2,6 +2,7 @@
 DEM-only 2D run, and each writes a non-empty PNG; each has a working --help; bad arguments stop with a message.
 Skips only when matplotlib is missing."""
 import os
+import shutil
 import subprocess
 import sys
 
@@ -46,7 +47,6 @@ for name in ("plot_void_fraction.py", "plot_velocity.py", "plot_profiles.py", "p
         png("plots/bars.png", name)
         # --seed: beside a run of the seed's single jet (the coupled run's analysis.h5 under that scene's name) the
         # seed's circulation bar, beside the other run none
-        import shutil
         os.makedirs("seed_jet1", exist_ok=True)
         shutil.copy(os.path.join(gas, "analysis.h5"), "seed_jet1/analysis.h5")
         open("seed_jet1/command.txt", "w").write("fluidbed -options_file examples/spouted_550_jet1_u160.opts\n")
