@@ -60,6 +60,7 @@ struct BedAverages final : Output {
   PetscReal                    p_low = 0, p_high = 0;
   PetscReal                    jet_void = kernels::kJetVoidFraction;
   kernels::DetachmentCriterion crit;
+  PetscBool                    reset = PETSC_FALSE; // at a restart, drop the checkpoint's averages
 
   // grids
   CellGrid                              grid;  // the particle grid, whole
@@ -125,6 +126,10 @@ PetscErrorCode SetFromOptions(BedAverages *a, const RunView &run, PetscBool *on)
                         &set_enable));
   PetscCall(
     OptionsReal(PetscOptionsObject, "-average_start", "Simulated time of the first sample", "s", NonNegative(1e6), &a->start, &set_start));
+  PetscCall(OptionsBool(PetscOptionsObject, "-average_reset",
+                        "At a -restart, drop the checkpoint's averages and start afresh at -average_start or the checkpoint's time, "
+                        "whichever is later (a window that leaves out a start-up)",
+                        &a->reset, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-average_interval",
                         "Simulated time between samples (each sample weighs the same; keep it short against the bubble period for "
                         "the jet height)",
@@ -796,12 +801,13 @@ PetscErrorCode BedAverages::CheckpointRead(const RunView &run, PetscViewer viewe
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscViewerHDF5HasGroup(viewer, "/averages", &has));
-  if (!has) {
-    // the checkpoint was written before averaging was on: start now, after the checkpoint's time
+  if (!has || reset) {
+    // the checkpoint was written before averaging was on, or -average_reset: start now, after the checkpoint's time
     const PetscReal eps = 0.5 * run.dt;
     while (next <= run.time + eps) next += interval;
     next_output = next + output_interval;
-    PetscCall(PetscPrintf(comm, "Averages: the checkpoint holds none; the first sample is at t = %.6g s\n", (double)next));
+    PetscCall(PetscPrintf(comm, "Averages: %s; the first sample is at t = %.6g s\n",
+                          has ? "the checkpoint's are dropped (-average_reset)" : "the checkpoint holds none", (double)next));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscLogEventBegin(ev_checkpoint, 0, 0, 0, 0));

@@ -2,7 +2,8 @@
 continued from its checkpoint on 1 and on 2 ranks; analysis.h5 (every dataset: fields, profiles, series,
 measures) agrees with the uninterrupted run's to 1e-12 relative to each dataset's largest value, and so do the
 summary's averages (to their 10 printed digits). A coupled run with a jet (pressure drop and jet-height series)
-continues the same way, to 1e-12, on 1 and on 2 ranks. A checkpoint written without averaging starts the averages at the restart."""
+continues the same way, to 1e-12, on 1 and on 2 ranks. A checkpoint written without averaging starts the averages at the restart;
+so does -average_reset with a checkpoint that holds them (the same analysis.h5 to 1e-12), or at a later -average_start."""
 import os
 import shutil
 
@@ -79,3 +80,17 @@ out, p = t.run(None, args=dem + ["-t_final", 0.03, "-restart", os.path.join(firs
 b = af.read(out)
 t.check("the checkpoint holds none" in p.stdout and abs(b["series/time"][0] - 0.021) < 1e-4 and len(b["series/time"]) == 5,
         "no averages in the checkpoint: %d samples from t = %.4f s" % (len(b["series/time"]), b["series/time"][0]))
+
+# -average_reset drops the checkpoint's averages (from 5 ms) and starts afresh after the checkpoint's time
+part = os.path.join("avg_part_dem", "checkpoint.h5")
+out_r, p = t.run(None, args=dem + ["-t_final", 0.03, "-restart", part, "-average_reset"], outdir="avg_reset_cont")
+r = af.read(out_r)["series/time"]
+t.check("dropped (-average_reset)" in p.stdout and len(r) == 5 and abs(r[0] - 0.021) < 1e-4,
+        "-average_reset: %d samples from t = %.4f s" % (len(r), r[0]))
+# or at a later -average_start: the same averages as a run made in one go with that start (the particles are the
+# same across the restart, above)
+later = dem[:dem.index("-average_start")] + ["-average_start", 0.025] + dem[dem.index("-average_start") + 2:]
+whole, _ = t.run(None, args=later + ["-t_final", 0.03, "-checkpoint_interval", 0.01], outdir="avg_later_whole")
+out_l, _ = t.run(None, args=later + ["-t_final", 0.03, "-restart", part, "-average_reset"], outdir="avg_reset_later")
+s_l = compare(whole, out_l, "-average_reset -average_start 0.025 against one run averaged from 0.025 s", 1e-12)["series/time"]
+t.check(len(s_l) == 3 and abs(s_l[0] - 0.025) < 1e-4, "-average_reset -average_start 0.025: %d samples from t = %.4f s" % (len(s_l), s_l[0]))
