@@ -3,7 +3,8 @@ continued from its checkpoint on 1 and on 2 ranks; analysis.h5 (every dataset: f
 measures) agrees with the uninterrupted run's to 1e-12 relative to each dataset's largest value, and so do the
 summary's averages (to their 10 printed digits). A coupled run with a jet (pressure drop and jet-height series)
 continues the same way, to 1e-12, on 1 and on 2 ranks. A checkpoint written without averaging starts the averages at the restart;
-so does -average_reset with a checkpoint that holds them (the same analysis.h5 to 1e-12), or at a later -average_start."""
+so does -average_reset with a checkpoint that holds them, and with a later -average_start it writes the same analysis.h5,
+to 1e-12, as one run averaged from that start."""
 import os
 import shutil
 
@@ -16,6 +17,12 @@ dem = ["-insert_type", "random", "-insert_count", 2000, "-insert_velocity_random
        "-average_start", 0.005, "-average_interval", 0.002, "-average_heights", "0.005,0.02"]
 gas = ["-inlet_velocity", 0.1, "-inlet_jets", "0.01,0.0066666667,5",
        "-couple_substeps", 5, "-average_start", 0, "-average_interval", 5e-4, "-average_heights", "0.005"]
+
+
+def replaced(args, option, *new):
+    """args with `option` and its value replaced by `new` (options and values)."""
+    i = args.index(option)
+    return args[:i] + list(new) + args[i + 2:]
 
 
 def compare(full, cont, label, limit):
@@ -68,7 +75,7 @@ t.check(ns == 18 and abs(a["series/time"][0] - 0.005) < 1e-4, "dem: %d samples f
 g = restart(t.example("coupling/small_bed.opts"), gas, 0.006, 0.012, 1, (1,), "gas", 1e-12)[0]
 restart(t.example("coupling/small_bed.opts"), gas, 0.006, 0.012, 2, (2,), "gas2", 1e-12)
 # and with two gas steps per DEM step (-couple_gas_substeps)
-gas_sub = gas[:gas.index("-couple_substeps")] + ["-couple_substeps", 1, "-couple_gas_substeps", 2] + gas[gas.index("-couple_substeps") + 2:]
+gas_sub = replaced(gas, "-couple_substeps", "-couple_substeps", 1, "-couple_gas_substeps", 2)
 restart(t.example("coupling/small_bed.opts"), gas_sub, 0.006, 0.012, 1, (1,), "gas_sub", 1e-12)
 t.check("series/pressure_drop" in g and "series/jet_height" in g and np.isfinite(g["series/pressure_drop"][1:]).all(),
         "gas: pressure drop and jet height series continue across the restart (%d samples, drop %.1f..%.1f Pa)"
@@ -89,7 +96,7 @@ t.check("dropped (-average_reset)" in p.stdout and len(r) == 5 and abs(r[0] - 0.
         "-average_reset: %d samples from t = %.4f s" % (len(r), r[0]))
 # or at a later -average_start: the same averages as a run made in one go with that start (the particles are the
 # same across the restart, above)
-later = dem[:dem.index("-average_start")] + ["-average_start", 0.025] + dem[dem.index("-average_start") + 2:]
+later = replaced(dem, "-average_start", "-average_start", 0.025)
 whole, _ = t.run(None, args=later + ["-t_final", 0.03, "-checkpoint_interval", 0.01], outdir="avg_later_whole")
 out_l, _ = t.run(None, args=later + ["-t_final", 0.03, "-restart", part, "-average_reset"], outdir="avg_reset_later")
 s_l = compare(whole, out_l, "-average_reset -average_start 0.025 against one run averaged from 0.025 s", 1e-12)["series/time"]
