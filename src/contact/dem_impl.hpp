@@ -69,11 +69,36 @@ struct NeighbourList {
   const PetscReal       *WallHistory(PetscInt k) const { return &wall_hist[(std::size_t)(hs * k)]; }
 };
 
+// The working arrays of a neighbour-list build (neighbour.cpp), kept between rebuilds: a rebuild then writes into
+// memory it has used before instead of allocating, growing and faulting in some 50 MB for 100,000 particles.
+struct NeighbourScratch {
+  struct BinnedBody {
+    PetscReal x, y, z, reach; // a body's binning position and its reach r + share
+  };
+  struct Candidate {
+    PetscInt64 id;   // the partner's id
+    PetscInt   near; // its place in the particle's unsorted partners
+  };
+  std::vector<kernels::Vec3>                 pos;   // binning positions (ghosts at their image)
+  std::vector<PetscReal>                     share; // each body's share of its pairs' skin
+  std::vector<PetscReal>                     mass;  // the bodies' masses, compact for the pairs' loop
+  std::vector<PetscInt>                      bin_start, bin_body, body_bin;
+  std::vector<BinnedBody>                    binned;                   // bodies in bin order
+  std::vector<std::pair<PetscInt, PetscInt>> found_pairs;              // each pair within its cutoff once
+  std::vector<PetscInt>                      near_start, near, mirror; // partners per local particle (CSR), the pair's other place
+  std::vector<PetscInt>                      entry_of_near;            // the list entry of each place in near
+  std::vector<PetscInt>                      partner;                  // per list entry: the partner's body index
+  std::vector<PetscInt64>                    entry_id;                 // per list entry: the partner's id
+  std::vector<Candidate>                     found;                    // one particle's partners, sorted by id
+  std::vector<PetscInt>                      fill, ready;
+};
+
 // The DEM: the particles' motion and, on top of it, the contact stage.
 struct Dem : ParticleSystem {
   DemParams                        par;
   ContactModel                     contact; // the model -dem_contact_model names
   NeighbourList                    nl;
+  NeighbourScratch                 nl_scratch;    // the build's working arrays (neighbour.cpp)
   std::vector<ContactContribution> contributions; // this step's, per pair (ContactPair::out); zero (or skipped) when the pair is apart
   std::vector<unsigned char>       touching;      // per place of contributions, when the sums skip pairs apart: 1 when written
   PetscReal                        contact_share       = 1; // share of the listed pairs in contact at the last force evaluation

@@ -20,13 +20,19 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   const PetscInt      nlocal = ntotal - dem->ghosts.n;
   const PetscReal     skin   = dem->skin;
   NeighbourList      &nl     = dem->nl;
+  NeighbourScratch   &w      = dem->nl_scratch;
   ParticleArrays      p;
+  using BinnedBody = NeighbourScratch::BinnedBody;
+  using Candidate  = NeighbourScratch::Candidate;
 
   PetscFunctionBeginUser;
   // Binning positions: ghosts at their periodic image next to this subdomain.
-  std::vector<kernels::Vec3> pos((std::size_t)ntotal);
+  std::vector<kernels::Vec3> &pos = w.pos;
+  pos.resize((std::size_t)ntotal);
+  w.mass.resize((std::size_t)ntotal);
   for (PetscInt k = 0; k < ntotal; ++k) {
-    pos[(std::size_t)k] = dem->bodies[(std::size_t)k].x;
+    pos[(std::size_t)k]    = dem->bodies[(std::size_t)k].x;
+    w.mass[(std::size_t)k] = dem->bodies[(std::size_t)k].m;
     if (k >= nlocal) {
       const PetscReal *s = &dem->ghosts.shift[3 * (std::size_t)(k - nlocal)];
       pos[(std::size_t)k] += kernels::Vec3{s[0], s[1], s[2]};
@@ -41,7 +47,8 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   // the lists last until the fastest particle has moved half of -dem_skin. A particle that kept its speed would
   // move half its share in the last interval. Ghosts compute their shares from the same velocities as their owners,
   // so the lists stay symmetric across ranks.
-  std::vector<PetscReal> share((std::size_t)ntotal, 0.5 * skin);
+  std::vector<PetscReal> &share = w.share;
+  share.assign((std::size_t)ntotal, 0.5 * skin);
   if (dem->par.skin_adaptive && dem->rebuild_interval > 0) {
     const PetscReal lo = 0.5 * dem->par.skin_min * dem->props->d_max, T = 2.0 * (PetscReal)dem->rebuild_interval * dem->dt;
     for (PetscInt k = 0; k < ntotal; ++k)
@@ -68,8 +75,11 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     const PetscReal xx[3] = {x.x, x.y, x.z};
     for (int a = 0; a < 3; ++a) c[a] = a < dim ? PetscMin(PetscMax((PetscInt)std::floor((xx[a] - origin[a]) / width[a]), 0), nb[a] - 1) : 0;
   };
-  const PetscInt        nbins = nb[0] * nb[1] * nb[2];
-  std::vector<PetscInt> bin_start((std::size_t)nbins + 1, 0), bin_body((std::size_t)ntotal), body_bin((std::size_t)ntotal);
+  const PetscInt         nbins     = nb[0] * nb[1] * nb[2];
+  std::vector<PetscInt> &bin_start = w.bin_start, &bin_body = w.bin_body, &body_bin = w.body_bin;
+  bin_start.assign((std::size_t)nbins + 1, 0);
+  bin_body.resize((std::size_t)ntotal);
+  body_bin.resize((std::size_t)ntotal);
   for (PetscInt k = 0; k < ntotal; ++k) {
     PetscInt c[3];
     bin_of(pos[(std::size_t)k], c);
@@ -77,16 +87,12 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
     bin_start[(std::size_t)body_bin[(std::size_t)k] + 1]++;
   }
   for (PetscInt b = 0; b < nbins; ++b) bin_start[(std::size_t)b + 1] += bin_start[(std::size_t)b];
-  {
-    std::vector<PetscInt> fill(bin_start.begin(), bin_start.end() - 1);
-    for (PetscInt k = 0; k < ntotal; ++k) bin_body[(std::size_t)fill[(std::size_t)body_bin[(std::size_t)k]]++] = k;
-  }
+  w.fill.assign(bin_start.begin(), bin_start.end() - 1);
+  for (PetscInt k = 0; k < ntotal; ++k) bin_body[(std::size_t)w.fill[(std::size_t)body_bin[(std::size_t)k]]++] = k;
   // The bodies in bin order, each with its reach r + share: the candidate loop below then reads one bin's
   // candidates from consecutive memory.
-  struct BinnedBody {
-    PetscReal x, y, z, reach;
-  };
-  std::vector<BinnedBody> binned((std::size_t)ntotal);
+  std::vector<BinnedBody> &binned = w.binned;
+  binned.resize((std::size_t)ntotal);
   for (PetscInt q = 0; q < ntotal; ++q) {
     const PetscInt       k = bin_body[(std::size_t)q];
     const kernels::Vec3 &x = pos[(std::size_t)k];
@@ -97,27 +103,15 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   for (PetscInt i = 0; i < nlocal; ++i) dem->body_id[(std::size_t)i] = p.id[i];
   for (PetscInt g = 0; g < dem->ghosts.n; ++g) dem->body_id[(std::size_t)(nlocal + g)] = dem->ghosts.id[(std::size_t)g];
 
-  // Full lists sorted by partner id; a particle's own pairs (ghost partners and local partners of larger id) are
-  // appended to the half list in the same order.
-  nl.start.assign((std::size_t)nlocal + 1, 0);
-  nl.pair_start.assign((std::size_t)nlocal + 1, 0);
-  nl.entries.clear();
-  nl.pairs.clear();
-  std::vector<PetscInt> partner; // per entry
-  struct Candidate {
-    PetscInt64 id;
-    PetscInt   j;
-  };
-  std::vector<Candidate> found; // one particle's partners, sorted by id (ids are unique)
   // Each pair within its cutoff found once: each body (ghosts too) tests the bodies after it in its own bin and those
   // of the bins after its own in the 3 x 3 x 3 stencil (z, then y, then x), half the stencil. The three bins along x
   // of a row are consecutive in the binning, and so are their bodies, so this is five ranges of candidates (two in
   // 2D). The test is symmetric in the two bodies bit for bit (the same squares, the same sum of reaches), so the lists
   // are those of testing every body against the whole stencil. Pairs of two ghosts are not kept.
-  std::vector<PetscInt> near_start((std::size_t)nlocal + 1, 0), near; // each local particle's partners (CSR)
+  auto &found_pairs = w.found_pairs;
+  found_pairs.clear();
   {
-    std::vector<std::pair<PetscInt, PetscInt>> found_pairs;
-    auto                                       test_range = [&](PetscInt k, const BinnedBody &A, PetscInt q0, PetscInt q1) {
+    auto test_range = [&](PetscInt k, const BinnedBody &A, PetscInt q0, PetscInt q1) {
       for (PetscInt q = q0; q < q1; ++q) {
         const BinnedBody &B  = binned[(std::size_t)q];
         const PetscReal   dx = B.x - A.x, dy = B.y - A.y, dz = B.z - A.z, cut = A.reach + B.reach;
@@ -150,51 +144,85 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
           test_range(k, A, q0, q1);
         }
     }
-    for (const auto &pr : found_pairs) {
-      if (pr.first < nlocal) near_start[(std::size_t)pr.first + 1]++;
-      if (pr.second < nlocal) near_start[(std::size_t)pr.second + 1]++;
+  }
+  // Each local particle's partners (CSR, in the order found); a pair of two local particles has a place in both
+  // lists, and mirror names the other place.
+  std::vector<PetscInt> &near_start = w.near_start, &near = w.near, &mirror = w.mirror;
+  near_start.assign((std::size_t)nlocal + 1, 0);
+  for (const auto &pr : found_pairs) {
+    if (pr.first < nlocal) near_start[(std::size_t)pr.first + 1]++;
+    if (pr.second < nlocal) near_start[(std::size_t)pr.second + 1]++;
+  }
+  for (PetscInt i = 0; i < nlocal; ++i) near_start[(std::size_t)i + 1] += near_start[(std::size_t)i];
+  near.resize((std::size_t)near_start[(std::size_t)nlocal]);
+  mirror.resize(near.size());
+  w.fill.assign(near_start.begin(), near_start.end() - 1);
+  for (const auto &pr : found_pairs) {
+    const PetscInt a = pr.first < nlocal ? w.fill[(std::size_t)pr.first]++ : -1;
+    const PetscInt b = pr.second < nlocal ? w.fill[(std::size_t)pr.second]++ : -1;
+    if (a >= 0) {
+      near[(std::size_t)a]   = pr.second;
+      mirror[(std::size_t)a] = b;
     }
-    for (PetscInt i = 0; i < nlocal; ++i) near_start[(std::size_t)i + 1] += near_start[(std::size_t)i];
-    near.resize((std::size_t)near_start[(std::size_t)nlocal]);
-    std::vector<PetscInt> fill(near_start.begin(), near_start.end() - 1);
-    for (const auto &pr : found_pairs) {
-      if (pr.first < nlocal) near[(std::size_t)fill[(std::size_t)pr.first]++] = pr.second;
-      if (pr.second < nlocal) near[(std::size_t)fill[(std::size_t)pr.second]++] = pr.first;
+    if (b >= 0) {
+      near[(std::size_t)b]   = pr.first;
+      mirror[(std::size_t)b] = a;
     }
   }
+
+  // Full lists sorted by partner id; a particle's own pairs (ghost partners and local partners of larger id) are
+  // appended to the half list in the same order. Most particles have a few tens of partners at most, which an
+  // insertion sort orders faster than std::sort.
+  const std::size_t nentries = near.size();
+  nl.start.assign((std::size_t)nlocal + 1, 0);
+  nl.pair_start.assign((std::size_t)nlocal + 1, 0);
+  nl.entries.resize(nentries);
+  nl.pairs.clear();
+  w.partner.resize(nentries);
+  w.entry_id.resize(nentries);
+  w.entry_of_near.resize(nentries);
+  std::vector<Candidate> &found = w.found;
+  const auto              by_id = [](const Candidate &a, const Candidate &b) { return a.id < b.id; };
+  std::size_t             ne    = 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
     const PetscInt64 id = dem->body_id[(std::size_t)i];
     found.clear();
-    for (PetscInt e = near_start[(std::size_t)i]; e < near_start[(std::size_t)i + 1]; ++e) {
-      const PetscInt j = near[(std::size_t)e];
-      found.push_back({dem->body_id[(std::size_t)j], j});
-    }
-    std::sort(found.begin(), found.end(), [](const Candidate &a, const Candidate &b) { return a.id < b.id; });
-    for (const Candidate &c : found) {
-      const PetscInt j = c.j;
-      partner.push_back(j);
-      if (j < nlocal && c.id < id) nl.entries.push_back(-1); // the partner's pair: linked below
-      else {
-        nl.entries.push_back(2 * (PetscInt)nl.pairs.size());
-        nl.pairs.push_back({j, -1, -1, -1, kernels::sqrt_effective_mass(dem->bodies[(std::size_t)i].m, dem->bodies[(std::size_t)j].m)});
+    for (PetscInt e = near_start[(std::size_t)i]; e < near_start[(std::size_t)i + 1]; ++e)
+      found.push_back({dem->body_id[(std::size_t)near[(std::size_t)e]], e});
+    if (found.size() > 32) std::sort(found.begin(), found.end(), by_id); // ids are unique: the order is the same
+    else
+      for (std::size_t a = 1; a < found.size(); ++a) {
+        const Candidate c = found[a];
+        std::size_t     b = a;
+        for (; b > 0 && c.id < found[b - 1].id; --b) found[b] = found[b - 1];
+        found[b] = c;
       }
+    for (const Candidate &c : found) {
+      const PetscInt j                     = near[(std::size_t)c.near];
+      w.partner[ne]                        = j;
+      w.entry_id[ne]                       = c.id;
+      w.entry_of_near[(std::size_t)c.near] = (PetscInt)ne;
+      if (j < nlocal && c.id < id) nl.entries[ne] = -1; // the partner's pair: linked below
+      else {
+        nl.entries[ne] = 2 * (PetscInt)nl.pairs.size();
+        nl.pairs.push_back({j, -1, -1, -1, kernels::sqrt_effective_mass(w.mass[(std::size_t)i], w.mass[(std::size_t)j])});
+      }
+      ++ne;
     }
-    nl.start[(std::size_t)i + 1]      = (PetscInt)nl.entries.size();
+    nl.start[(std::size_t)i + 1]      = (PetscInt)ne;
     nl.pair_start[(std::size_t)i + 1] = (PetscInt)nl.pairs.size();
   }
+  const std::vector<PetscInt> &partner = w.partner;
 
-  // Each local pair appears in both particles' lists: point the partner side's entry at the pair.
-  for (PetscInt i = 0; i < nlocal; ++i)
-    for (PetscInt e = nl.start[(std::size_t)i]; e < nl.start[(std::size_t)i + 1]; ++e) {
-      if (nl.entries[(std::size_t)e] >= 0) continue;
-      const PetscInt j = partner[(std::size_t)e];
-      for (PetscInt q = nl.pair_start[(std::size_t)j]; q < nl.pair_start[(std::size_t)j + 1]; ++q)
-        if (nl.pairs[(std::size_t)q].partner == i) {
-          nl.entries[(std::size_t)e] = 2 * q + 1;
-          break;
-        }
-      PetscCheck(nl.entries[(std::size_t)e] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "neighbour lists are not symmetric");
-    }
+  // Each local pair appears in both particles' lists: point the partner side's entry at the pair, which the other
+  // place of the pair in near names.
+  for (std::size_t e = 0; e < nentries; ++e) {
+    const PetscInt x = w.entry_of_near[e];
+    if (nl.entries[(std::size_t)x] >= 0) continue;
+    const PetscInt owner = mirror[e] >= 0 ? nl.entries[(std::size_t)w.entry_of_near[(std::size_t)mirror[e]]] : -1;
+    PetscCheck(owner >= 0 && owner % 2 == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "neighbour lists are not symmetric");
+    nl.entries[(std::size_t)x] = owner + 1;
+  }
 
   // Attach each listed pair to its history slots (the pair's copy of the evaluating side's history is loaded from
   // the slot); free slots of partners no longer listed (they left the system or moved beyond the cutoff); list
@@ -218,10 +246,9 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
         continue;
       }
       if (key[s] < 0) continue; // free
-      const auto     at = std::lower_bound(partner.begin() + e0, partner.begin() + e1, key[s],
-                                           [&](PetscInt j, PetscInt64 k) { return dem->body_id[(std::size_t)j] < k; });
-      const PetscInt lo = (PetscInt)(at - partner.begin());
-      if (lo == e1 || dem->body_id[(std::size_t)partner[(std::size_t)lo]] != key[s]) {
+      const auto     at = std::lower_bound(w.entry_id.begin() + e0, w.entry_id.begin() + e1, key[s]);
+      const PetscInt lo = (PetscInt)(at - w.entry_id.begin());
+      if (lo == e1 || w.entry_id[(std::size_t)lo] != key[s]) {
         HistorySlotFree(p, i, s); // the partner is no longer listed (it left, or moved beyond the cutoff)
         continue;
       }
@@ -248,7 +275,8 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   // Each particle is summed once the last of the partners that evaluate its pairs (in storage order) has
   // evaluated them, while their contributions are still in cache.
   {
-    std::vector<PetscInt> ready((std::size_t)nlocal);
+    std::vector<PetscInt> &ready = w.ready;
+    ready.resize((std::size_t)nlocal);
     nl.finish_start.assign((std::size_t)nlocal + 1, 0);
     for (PetscInt i = 0; i < nlocal; ++i) {
       PetscInt r = i;
@@ -258,9 +286,9 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       nl.finish_start[(std::size_t)r + 1]++;
     }
     for (PetscInt i = 0; i < nlocal; ++i) nl.finish_start[(std::size_t)i + 1] += nl.finish_start[(std::size_t)i];
-    std::vector<PetscInt> fill(nl.finish_start.begin(), nl.finish_start.end() - 1);
+    w.fill.assign(nl.finish_start.begin(), nl.finish_start.end() - 1);
     nl.finish.resize((std::size_t)nlocal);
-    for (PetscInt i = 0; i < nlocal; ++i) nl.finish[(std::size_t)fill[(std::size_t)ready[(std::size_t)i]]++] = i;
+    for (PetscInt i = 0; i < nlocal; ++i) nl.finish[(std::size_t)w.fill[(std::size_t)ready[(std::size_t)i]]++] = i;
 
     // A pair's contribution is read by its particles once pair_start[ready + 1] pairs are visited, and at most
     // kLanePairsVisited + max_pairs pairs later (the force loop's lanes); its place in the ring is taken again by pair

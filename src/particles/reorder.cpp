@@ -11,12 +11,13 @@
 
 namespace fluidbed {
 
-PetscErrorCode ParticlesPermute(DM sw, const std::vector<PetscInt> &order)
+PetscErrorCode ParticlesPermute(DM sw, const std::vector<PetscInt> &order, std::vector<char> *scratch)
 {
   std::vector<const char *> names = {DMSwarmPICField_coor, DMSwarmField_pid, DMSwarmField_rank, DMSwarmPICField_cellid};
   names.insert(names.end(), std::begin(field::all), std::end(field::all));
-  std::vector<char> tmp;
-  PetscInt          n;
+  std::vector<char>  own;
+  std::vector<char> &tmp = scratch ? *scratch : own;
+  PetscInt           n;
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
@@ -73,7 +74,7 @@ PetscErrorCode ParticlesSortLocal(ParticleSystem *ps)
   std::sort(key.begin(), key.end()); // ties broken by the old index: deterministic
   order.resize(key.size());
   for (std::size_t k = 0; k < key.size(); ++k) order[k] = key[k].second;
-  PetscCall(ParticlesPermute(ps->swarm, order));
+  PetscCall(ParticlesPermute(ps->swarm, order, &ps->permute_scratch));
   PetscFunctionReturn(0);
 }
 
