@@ -2,7 +2,8 @@
 # Keeps a long validation run (docs/validation.md) going across machines. A run of the seed's 8 s takes longer than
 # one sitting, and bench/ (where scripts/validate.sh writes) is not in git, so a fresh checkout has lost it. `save`
 # packs the run's newest checkpoint (xz) and its small records (monitor.csv, command.txt, stdout.txt, machine.txt,
-# summary.json) into campaign/<name>/, which is committed; `restore` unpacks them into the run folder, after which
+# summary.json, and analysis.h5 once a finished run has written its averages there) into campaign/<name>/, which is
+# committed; `restore` unpacks them into the run folder, after which
 # the run continues with FLUIDBED_CONTINUE=1 and its usual command. The checkpoint holds the time averages as well,
 # so averages begun before a save go on after the restore. Snapshots are not kept (they are redrawn from a rerun).
 #   scripts/campaign.sh save    <run folder> <name>     e.g. bench/spouted550_kn150/spouted_550_jet1_u160 spouted_550_kn150
@@ -12,7 +13,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 store=${FLUIDBED_CAMPAIGN_DIR:-$root/campaign}
-records=(monitor.csv command.txt stdout.txt machine.txt summary.json)
+records=(monitor.csv command.txt stdout.txt machine.txt summary.json analysis.h5)
 usage() { sed -n '2,12p' "$0" >&2; exit 2; }
 [[ $# -ge 1 ]] || usage
 

@@ -44,7 +44,11 @@ t.check(p.returncode == 0, "the run in one go (exit %d)" % p.returncode)
 p = validate("parts", ["-t_final", "1e-3"])
 t.check(p.returncode == 0, "the first part, to 1 ms (exit %d)" % p.returncode)
 # The first part carried to a new folder, as to a fresh machine: saved, restored, continued there.
+# A finished run's averages (analysis.h5) travel with its records; a stand-in here, taken away again after the save.
+stand_in = os.path.join("parts", "dem", "head_on", "analysis.h5")
+open(stand_in, "wb").write(b"averages of a finished run\x00\x01\x02")
 p = campaign("save", os.path.join("parts", "dem", "head_on"), "head_on")
+os.remove(stand_in)
 t.check(p.returncode == 0 and os.path.isfile(os.path.join(STORE, "head_on", "checkpoint.h5.xz")), "campaign.sh save packs the first part (exit %d)" %
         p.returncode)
 m = re.search(r"checkpoint: t = ([0-9.e+-]+) s, step (\d+)", open(os.path.join(STORE, "head_on", "state.txt")).read())
@@ -52,6 +56,10 @@ t.check(m is not None and abs(float(m.group(1)) - 1e-3) < 1e-5, "state.txt gives
         (m.group(0) if m else "no time"))
 p = campaign("restore", "head_on", os.path.join("moved", "dem", "head_on"))
 t.check(p.returncode == 0, "campaign.sh restore unpacks it into a new folder (exit %d)" % p.returncode)
+moved_analysis = os.path.join("moved", "dem", "head_on", "analysis.h5")
+t.check(os.path.isfile(moved_analysis) and open(moved_analysis, "rb").read() == b"averages of a finished run\x00\x01\x02",
+        "analysis.h5 is saved and restored with the run")
+os.remove(moved_analysis)
 p = campaign("restore", "head_on", os.path.join("moved", "dem", "head_on"))
 t.check(p.returncode != 0 and "already has a checkpoint" in p.stderr, "a restore over a run's checkpoint stops (exit %d)" % p.returncode)
 p = validate("moved", ["-t_final", "2e-3"], cont=True)
