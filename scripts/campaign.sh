@@ -42,6 +42,9 @@ save)
   xz -T1 -6 -c "$held" >"$store/$name/checkpoint.h5.xz.part"
   mv "$store/$name/checkpoint.h5.xz.part" "$store/$name/checkpoint.h5.xz"
   for r in "${records[@]}"; do
+    # the averages only from a run that ended at its -t_final (summary.json's exit code 0): a running or interrupted
+    # run's analysis.h5 is redrawn from its checkpoint, and would only add megabytes to every save
+    [[ $r == analysis.h5 ]] && ! grep -q '"exit_code": 0' "$run/summary.json" 2>/dev/null && continue
     [[ -f $run/$r ]] && cp "$run/$r" "$store/$name/$r"
   done
   {
