@@ -171,8 +171,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   }
 
   // Full lists sorted by partner id; a particle's own pairs (ghost partners and local partners of larger id) are
-  // appended to the half list in the same order. Most particles have a few tens of partners at most, which an
-  // insertion sort orders faster than std::sort.
+  // appended to the half list in the same order.
   const std::size_t nentries = near.size();
   nl.start.assign((std::size_t)nlocal + 1, 0);
   nl.pair_start.assign((std::size_t)nlocal + 1, 0);
@@ -182,21 +181,13 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   w.entry_id.resize(nentries);
   w.entry_of_near.resize(nentries);
   std::vector<Candidate> &found = w.found;
-  const auto              by_id = [](const Candidate &a, const Candidate &b) { return a.id < b.id; };
   std::size_t             ne    = 0;
   for (PetscInt i = 0; i < nlocal; ++i) {
     const PetscInt64 id = dem->body_id[(std::size_t)i];
     found.clear();
     for (PetscInt e = near_start[(std::size_t)i]; e < near_start[(std::size_t)i + 1]; ++e)
       found.push_back({dem->body_id[(std::size_t)near[(std::size_t)e]], e});
-    if (found.size() > 32) std::sort(found.begin(), found.end(), by_id); // ids are unique: the order is the same
-    else
-      for (std::size_t a = 1; a < found.size(); ++a) {
-        const Candidate c = found[a];
-        std::size_t     b = a;
-        for (; b > 0 && c.id < found[b - 1].id; --b) found[b] = found[b - 1];
-        found[b] = c;
-      }
+    std::sort(found.begin(), found.end(), [](const Candidate &a, const Candidate &b) { return a.id < b.id; }); // ids are unique
     for (const Candidate &c : found) {
       const PetscInt j                     = near[(std::size_t)c.near];
       w.partner[ne]                        = j;
