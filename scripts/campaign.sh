@@ -3,8 +3,8 @@
 # one sitting, and bench/ (where scripts/validate.sh writes) is not in git, so a fresh checkout has lost it. `save`
 # packs the run's newest checkpoint (xz) and its small records (monitor.csv, command.txt, stdout.txt, machine.txt,
 # summary.json, and analysis.h5 once a finished run has written its averages there) into campaign/<name>/, which is
-# committed; `restore` unpacks them into the run folder, after which
-# the run continues with FLUIDBED_CONTINUE=1 and its usual command. The checkpoint holds the time averages as well,
+# committed; `restore` unpacks them into the run folder, after which the run continues with FLUIDBED_CONTINUE=1 and
+# its usual command. The checkpoint holds the time averages as well,
 # so averages begun before a save go on after the restore. Snapshots are not kept (they are redrawn from a rerun).
 #   scripts/campaign.sh save    <run folder> <name>     e.g. bench/spouted550_kn150/spouted_550_jet1_u160 spouted_550_kn150
 #   scripts/campaign.sh restore <name> <run folder>
