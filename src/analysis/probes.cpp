@@ -66,30 +66,51 @@ void GasProbes::Columns(std::vector<MonitorColumn> *columns) const
   for (std::size_t k = 0; k < points.size(); ++k) columns->push_back({"p_probe" + std::to_string(k)});
 }
 
+// The gas pressure of the cells this rank owns, read only: its array, the owned box (a 2D grid as one layer of
+// cells) and the communicator, for the profile and the point probes alike.
+struct OwnedPressure {
+  Vec                p = NULL;
+  const PetscScalar *a = NULL;
+  PetscInt           xs[3], xm[3];
+  MPI_Comm           comm;
+};
+
+PetscErrorCode OwnedPressureGet(Fluid *fluid, int dim, OwnedPressure *P)
+{
+  DM da;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidGetCellDMs(fluid, &da, NULL));
+  PetscCall(FluidGetPressure(fluid, &P->p));
+  PetscCall(PetscObjectGetComm((PetscObject)da, &P->comm));
+  PetscCall(DMDAGetCorners(da, &P->xs[0], &P->xs[1], &P->xs[2], &P->xm[0], &P->xm[1], &P->xm[2]));
+  if (dim == 2) P->xs[2] = 0, P->xm[2] = 1;
+  PetscCall(VecGetArrayRead(P->p, &P->a));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OwnedPressureRestore(OwnedPressure *P)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecRestoreArrayRead(P->p, &P->a));
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGrid &grid, std::vector<PetscReal> *profile)
 {
-  DM                 da;
-  Vec                p;
-  const PetscScalar *a;
-  PetscInt           xs[3], xm[3];
-  MPI_Comm           comm;
+  OwnedPressure P;
 
   PetscFunctionBeginUser;
-  PetscCall(FluidGetCellDMs(fluid, &da, NULL));
-  PetscCall(FluidGetPressure(fluid, &p));
-  PetscCall(PetscObjectGetComm((PetscObject)da, &comm));
-  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
-  if (dom.dim == 2) xs[2] = 0, xm[2] = 1;
+  PetscCall(OwnedPressureGet(fluid, (int)dom.dim, &P));
   std::vector<PetscReal> loc((std::size_t)grid.n[1], 0.0);
-  PetscCall(VecGetArrayRead(p, &a));
-  for (PetscInt k = 0; k < xm[2]; ++k)
-    for (PetscInt j = 0; j < xm[1]; ++j)
-      for (PetscInt i = 0; i < xm[0]; ++i) loc[(std::size_t)(xs[1] + j)] += a[(k * xm[1] + j) * xm[0] + i];
-  PetscCall(VecRestoreArrayRead(p, &a));
+  for (PetscInt k = 0; k < P.xm[2]; ++k)
+    for (PetscInt j = 0; j < P.xm[1]; ++j)
+      for (PetscInt i = 0; i < P.xm[0]; ++i) loc[(std::size_t)(P.xs[1] + j)] += P.a[(k * P.xm[1] + j) * P.xm[0] + i];
+  PetscCall(OwnedPressureRestore(&P));
   profile->assign((std::size_t)grid.n[1], 0.0);
-  PetscCallMPI(MPI_Allreduce(loc.data(), profile->data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(loc.data(), profile->data(), (int)grid.n[1], MPIU_REAL, MPI_SUM, P.comm));
   const PetscReal per_layer = (PetscReal)(grid.n[0] * (dom.dim == 3 ? grid.n[2] : 1));
   for (auto &v : *profile) v /= per_layer;
   PetscFunctionReturn(0);
@@ -97,24 +118,15 @@ PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGr
 
 PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *values)
 {
-  DM                 da;
-  Vec                p;
-  const PetscScalar *a;
-  PetscInt           xs[3], xm[3];
-  const Domain      &dom   = run.domain;
-  const FluidGrid   &grid  = run.grids.fluid;
-  Fluid             *fluid = run.fluid;
-  const int          dim   = (int)dom.dim;
-  MPI_Comm           comm;
+  const Domain    &dom   = run.domain;
+  const FluidGrid &grid  = run.grids.fluid;
+  Fluid           *fluid = run.fluid;
+  const int        dim   = (int)dom.dim;
+  OwnedPressure    P;
 
   PetscFunctionBeginUser;
-  PetscCall(FluidGetCellDMs(fluid, &da, NULL));
-  PetscCall(FluidGetPressure(fluid, &p));
-  PetscCall(PetscObjectGetComm((PetscObject)da, &comm));
-  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
-  if (dim == 2) xs[2] = 0, xm[2] = 1;
-  PetscCall(VecGetArrayRead(p, &a));
-  auto at = [&](PetscInt i, PetscInt j, PetscInt k) { return a[((k - xs[2]) * xm[1] + (j - xs[1])) * xm[0] + (i - xs[0])]; };
+  PetscCall(OwnedPressureGet(fluid, dim, &P));
+  const PetscInt *xs = P.xs, *xm = P.xm;
 
   // cross-section-averaged profile, interpolated between layer centres
   std::vector<PetscReal> prof;
@@ -128,10 +140,10 @@ PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *val
     PetscInt c[3] = {0, 0, 0};
     for (int d = 0; d < dim; ++d) c[d] = kernels::axis_cell(g, d, points[q][d]);
     if (c[0] >= xs[0] && c[0] < xs[0] + xm[0] && c[1] >= xs[1] && c[1] < xs[1] + xm[1] && c[2] >= xs[2] && c[2] < xs[2] + xm[2])
-      pl[q] = at(c[0], c[1], c[2]);
+      pl[q] = P.a[((c[2] - xs[2]) * xm[1] + (c[1] - xs[1])) * xm[0] + (c[0] - xs[0])];
   }
-  PetscCall(VecRestoreArrayRead(p, &a));
-  if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, comm));
+  PetscCall(OwnedPressureRestore(&P));
+  if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, P.comm));
   values->insert(values->end(), pg.begin(), pg.end());
   PetscFunctionReturn(0);
 }
