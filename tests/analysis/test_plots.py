@@ -60,6 +60,11 @@ for name in ("plot_void_fraction.py", "plot_velocity.py", "plot_profiles.py", "p
         png("plots/dem.png", name + " (DEM-only 2D run)")
 script("plot_profiles.py", dem, "plots/heights.png", "--heights", "0.005,0.02")
 png("plots/heights.png", "plot_profiles.py --heights")
+script("plot_profiles.py", gas, "plots/ch4.png", "--inlet-velocity", 4)  # the seed's chapter-4 panels at -average_heights
+png("plots/ch4.png", "plot_profiles.py --inlet-velocity")
+p = script("plot_profiles.py", gas, "plots/none.png", "--inlet-velocity", 0, fail=True)
+t.check(p.returncode != 0 and "--inlet-velocity" in p.stderr and not os.path.exists("plots/none.png"),
+        "plot_profiles.py --inlet-velocity 0: %s" % p.stderr.strip()[:120])
 p = script("plot_pressure.py", dem, "plots/none.png", fail=True)
 t.check(p.returncode != 0 and "no pressure" in p.stderr and not os.path.exists("plots/none.png"),
         "plot_pressure.py on a run without gas: exit %d, %s" % (p.returncode, p.stderr.strip()[:120]))
