@@ -118,23 +118,25 @@ PetscErrorCode GasPressureProfile(Fluid *fluid, const Domain &dom, const FluidGr
 
 PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *values)
 {
-  const Domain    &dom   = run.domain;
-  const FluidGrid &grid  = run.grids.fluid;
-  Fluid           *fluid = run.fluid;
-  const int        dim   = (int)dom.dim;
-  OwnedPressure    P;
+  const Domain           &dom   = run.domain;
+  const FluidGrid        &grid  = run.grids.fluid;
+  Fluid                  *fluid = run.fluid;
+  const int               dim   = (int)dom.dim;
+  const kernels::CellGrid g     = GridsCellGrid(dom, grid.n);
 
   PetscFunctionBeginUser;
-  PetscCall(OwnedPressureGet(fluid, dim, &P));
-  const PetscInt *xs = P.xs, *xm = P.xm;
-
-  // cross-section-averaged profile, interpolated between layer centres
-  std::vector<PetscReal> prof;
-  PetscCall(GasPressureProfile(fluid, dom, grid, &prof));
-  const kernels::CellGrid g = GridsCellGrid(dom, grid.n);
-  for (PetscReal y : heights) values->push_back(kernels::interpolate_profile(g, prof, y - dom.lo[1]));
+  // cross-section-averaged profile, interpolated between layer centres (the same heights on every rank)
+  if (!heights.empty()) {
+    std::vector<PetscReal> prof;
+    PetscCall(GasPressureProfile(fluid, dom, grid, &prof));
+    for (PetscReal y : heights) values->push_back(kernels::interpolate_profile(g, prof, y - dom.lo[1]));
+  }
+  if (points.empty()) PetscFunctionReturn(0);
 
   // point probes: the value of the cell holding the point, from its owner
+  OwnedPressure P;
+  PetscCall(OwnedPressureGet(fluid, dim, &P));
+  const PetscInt        *xs = P.xs, *xm = P.xm;
   std::vector<PetscReal> pl(points.size(), 0.0), pg(points.size());
   for (std::size_t q = 0; q < points.size(); ++q) {
     PetscInt c[3] = {0, 0, 0};
@@ -143,7 +145,7 @@ PetscErrorCode GasProbes::Values(const RunView &run, std::vector<PetscReal> *val
       pl[q] = P.a[((c[2] - xs[2]) * xm[1] + (c[1] - xs[1])) * xm[0] + (c[0] - xs[0])];
   }
   PetscCall(OwnedPressureRestore(&P));
-  if (!pl.empty()) PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, P.comm));
+  PetscCallMPI(MPI_Allreduce(pl.data(), pg.data(), (int)pl.size(), MPIU_REAL, MPI_SUM, P.comm));
   values->insert(values->end(), pg.begin(), pg.end());
   PetscFunctionReturn(0);
 }
