@@ -44,15 +44,16 @@ struct Coupling {
   DragLaw         drag;
   PetscReal       rho_g = 1.205, mu_g = 1.8e-5;
 
-  DM                                  da      = nullptr;
-  Vec                                 deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
-  PetscInt                            until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
-  std::vector<PetscInt64>             order_cell;    // per particle: its coupling cell (flat index) at the last deposit
-  std::vector<PetscInt>               order;         // the particles by cell, then id: the summation order of the deposits
-  std::vector<PetscInt>               by_id;         // the particles by id (valid while the swarm's storage order is unchanged)
-  std::vector<PetscInt>               order_local, cell_start; // per particle: its cell's offset in the ghosted block; cells' ends in order
-  std::vector<kernels::DragCellTerms> cell_terms;              // the drag law's terms of each ghosted cell's void fraction
-  std::vector<PetscReal>              volume;                  // per particle (storage order): its volume at the last deposit
+  DM                      da      = nullptr;
+  Vec                     deposit = nullptr, deposit_loc = nullptr, gas = nullptr, gas_loc = nullptr;
+  PetscInt                until_gas = 1; // DEM steps left before the next gas step; at 1 the linearised drag is refreshed
+  std::vector<PetscInt64> order_cell;    // per particle: its coupling cell (flat index) at the last deposit
+  std::vector<PetscInt>   order;         // the particles by cell, then id: the summation order of the deposits
+  std::vector<PetscInt>   by_id;         // the particles by id, made for the ids in storage order stored_ids
+  std::vector<PetscInt64> stored_ids;
+  std::vector<PetscInt>   order_local, cell_start; // per particle: its cell's offset in the ghosted block; cells' starts in order
+  std::vector<kernels::DragCellTerms> cell_terms;  // the drag law's terms of each ghosted cell's void fraction
+  std::vector<PetscReal>              volume;      // per particle (storage order): its volume at the last deposit
   CouplingStats                       stats;
 };
 
@@ -62,11 +63,13 @@ namespace {
 // zero, which is the floor wherever the clamp keeps the result (a centre up to a cell below lo truncates to 0 where
 // the floor gives -1, and both clamp to 0): the same cells as std::floor, without its call on every particle and
 // axis at every gas step (x86-64's baseline has no rounding instruction).
+// The per-particle loops below are templates on the dimension D (2 or 3), so that their loops over the axes unroll.
+template <int D>
 inline void CellOf(const Coupling *c, const Vec3 &x, PetscInt cell[3])
 {
   const PetscReal xx[3] = {x.x, x.y, x.z};
   for (int a = 0; a < 3; ++a) {
-    if (a >= c->dim) {
+    if (a >= D) {
       cell[a] = 0;
       continue;
     }
@@ -88,7 +91,10 @@ void ForOwnedCells(const DMDAField &v, Fn &&fn)
 // history (sorting, migration, restart); summing in this order makes the cell sums, and so the whole coupled run, a
 // function of the particles' state alone, so that a restart repeats the uninterrupted run bit for bit.
 // The order is a stable counting sort by cell of the particles sorted by id. The id order only changes when the
-// swarm's storage does (list rebuilds), so it is kept and re-sorted only when it no longer lists increasing ids.
+// swarm's storage does (list rebuilds, migration), so it is kept with the ids it was made for and made again only
+// when the ids in storage order differ from those (a comparison of two arrays in order, not a walk through the ids
+// in id order).
+template <int D>
 PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBody *bodies)
 {
   PetscInt64 *ids;
@@ -96,9 +102,8 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBod
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
-  bool by_id = (PetscInt)c->by_id.size() == n;
-  for (PetscInt k = 1; by_id && k < n; ++k) by_id = ids[c->by_id[k - 1]] < ids[c->by_id[k]];
-  if (!by_id) {
+  if ((PetscInt)c->stored_ids.size() != n || !std::equal(c->stored_ids.begin(), c->stored_ids.end(), ids)) {
+    c->stored_ids.assign(ids, ids + n);
     c->by_id.resize(n);
     for (PetscInt p = 0; p < n; ++p) c->by_id[p] = p;
     std::sort(c->by_id.begin(), c->by_id.end(), [&](PetscInt a, PetscInt b) { return ids[a] < ids[b]; });
@@ -107,33 +112,63 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBod
 
   // counting sort by the cell's index in this rank's ghosted block (particles lie in its owned cells or halo)
   PetscCall(DMDAGetGhostCorners(c->da, &gs[0], &gs[1], &gs[2], &gm[0], &gm[1], &gm[2]));
-  if (c->dim == 2) gs[2] = 0, gm[2] = 1;
+  if (D == 2) gs[2] = 0, gm[2] = 1;
+  const std::size_t ncells = (std::size_t)(gm[0] * gm[1] * gm[2]);
   c->order_cell.resize(n);
   c->volume.resize(n);
   c->order.resize(n);
-  c->cell_start.assign((std::size_t)(gm[0] * gm[1] * gm[2] + 1), 0);
-  std::vector<PetscInt> &local = c->order_local;
+  c->cell_start.assign(ncells + 1, 0);
+  std::vector<PetscInt> &local = c->order_local, &start = c->cell_start;
   local.resize(n);
   for (PetscInt p = 0; p < n; ++p) {
     PetscInt cell[3];
-    CellOf(c, bodies[p].x, cell);
-    for (int d = 0; d < 3; ++d)
+    CellOf<D>(c, bodies[p].x, cell);
+    for (int d = 0; d < D; ++d)
       PetscCheck(cell[d] >= gs[d] && cell[d] < gs[d] + gm[d], PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
     c->order_cell[p] = cell[0] + c->n[0] * (cell[1] + c->n[1] * cell[2]);
     c->volume[p]     = (4.0 / 3.0) * PETSC_PI * bodies[p].r * bodies[p].r * bodies[p].r;
     local[p]         = (cell[0] - gs[0]) + gm[0] * ((cell[1] - gs[1]) + gm[1] * (cell[2] - gs[2]));
-    c->cell_start[(std::size_t)local[p] + 1]++;
+    start[(std::size_t)local[p] + 1]++;
   }
-  for (std::size_t q = 1; q < c->cell_start.size(); ++q) c->cell_start[q] += c->cell_start[q - 1];
-  for (PetscInt p : c->by_id) c->order[c->cell_start[(std::size_t)local[p]]++] = p;
+  for (std::size_t q = 1; q <= ncells; ++q) start[q] += start[q - 1];
+  for (PetscInt p : c->by_id) c->order[start[(std::size_t)local[p]]++] = p;
+  for (std::size_t q = ncells; q > 0; --q) start[q] = start[q - 1]; // the fill left each cell's end in its start
+  start[0] = 0;
   PetscFunctionReturn(0);
 }
 
+// Sums over each coupling cell's particles, in the deposit order, Count values per particle (add(p, sum) adds them to
+// sum[0..Count)) into entries first..first+Count of the cell's block in a (ghosted layout, dof entries per cell): in
+// registers per cell, the same sums as adding into the array particle by particle without a chain of stores and loads
+// through one address, and one pass over the particles for all the values.
+template <int Count, class Add>
+void SumPerCell(const Coupling *c, PetscScalar *a, PetscInt dof, PetscInt first, Add &&add)
+{
+  const std::size_t ncells = c->cell_start.size() - 1;
+  for (std::size_t q = 0; q < ncells; ++q) {
+    const PetscInt begin = c->cell_start[q], end = c->cell_start[q + 1];
+    if (begin == end) continue;
+    PetscScalar sum[Count] = {};
+    for (PetscInt k = begin; k < end; ++k) add(c->order[k], sum);
+    for (int i = 0; i < Count; ++i) a[(PetscInt)q * dof + first + i] = sum[i];
+  }
+}
+
+// The coupling cell (i, j, k) of a flat index i + n0 (j + n1 k). The index fits a PetscInt (the DMDA counts its
+// cells in one), so the divisions are of that width, the fewer for D = 2 (k = 0).
+template <int D>
 inline void CellIjk(const Coupling *c, PetscInt64 flat, PetscInt cell[3])
 {
-  cell[0] = (PetscInt)(flat % c->n[0]);
-  cell[1] = (PetscInt)((flat / c->n[0]) % c->n[1]);
-  cell[2] = (PetscInt)(flat / (c->n[0] * c->n[1]));
+  const PetscInt f = (PetscInt)flat, q = f / c->n[0];
+  cell[0] = f - q * c->n[0];
+  if (D == 2) {
+    cell[1] = q;
+    cell[2] = 0;
+  } else {
+    const PetscInt r = q / c->n[1];
+    cell[1]          = q - r * c->n[1];
+    cell[2]          = r;
+  }
 }
 
 // The coupling cell's void fraction (eq. 5.2-5.3) at the particles' current positions: solid volumes summed (in the
@@ -145,7 +180,7 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(c->deposit_loc));
   PetscCall(DMDAFieldGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-  for (PetscInt p : c->order) dep.a[c->order_local[(std::size_t)p] * dep.dof] += c->volume[p]; // ghosted block offsets
+  SumPerCell<1>(c, dep.a, dep.dof, 0, [&](PetscInt p, PetscScalar *sum) { sum[0] += c->volume[p]; });
   PetscCall(DMDAFieldRestore(c->deposit_loc, &dep));
   PetscCall(VecZeroEntries(c->deposit));
   PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit));
@@ -177,91 +212,110 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
   PetscFunctionReturn(0);
 }
 
-// Called by the DEM after the contact forces of every step: adds each particle's drag F = a u - b (eq. 2.18,
-// linearised at the last gas step); at the last step before a gas step, refreshes a and b with the current void
-// fraction and predicted velocities and sums B and M per cell for the gas (eq. 2.21, 5.1).
+// The drag of particle p, F = a u - b (eq. 2.18, linearised at the last gas step), added to its force and to sum: u
+// is the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the gas
+// step used (the particle may have crossed into another cell since).
+template <int D>
+inline PetscErrorCode AddDrag(const Coupling *c, const DMDAField &gas, PetscInt p, PetscReal a, const PetscReal *b, PetscInt64 flat,
+                              PetscReal *f, PetscReal sum[3])
+{
+  PetscInt cell[3];
+
+  PetscFunctionBeginUser;
+  if (a == 0) PetscFunctionReturn(0); // not linearised yet (just inserted): no drag, and its cell is not set
+  CellIjk<D>(c, flat, cell);
+  PetscCheck(gas.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
+  for (int d = 0; d < D; ++d) {
+    const PetscReal F = a * gas(cell[0], cell[1], cell[2], 2 + d) - b[3 * p + d];
+    f[3 * p + d] += F;
+    sum[d] += F;
+  }
+  PetscFunctionReturn(0);
+}
+
+// The pass over the particles of ParticleDrag: each particle's drag (AddDrag) and, when refresh, its new a and b and
+// their sums per cell into deposit_loc.
+template <int D>
+PetscErrorCode DragPass(Coupling *c, PetscInt n, const ParticleBody *bodies, bool refresh, const DMDAField &gas, PetscReal *f, PetscReal *a,
+                        PetscReal *b, PetscInt64 *cells, PetscReal sum_local[3])
+{
+  DMDAField dep;
+
+  PetscFunctionBeginUser;
+  if (!refresh) {
+    for (PetscInt p = 0; p < n; ++p) PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(VecZeroEntries(c->deposit_loc));
+  PetscCall(DMDAFieldGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
+  // The cells' offsets in the ghosted block (DepositOrder: order_local) address the gas and deposit arrays directly,
+  // which share that block. The law's void-fraction terms once per cell that holds particles.
+  const PetscInt     dof = gas.dof, *local = c->order_local.data();
+  const PetscScalar *g = gas.a;
+  c->cell_terms.resize(c->cell_start.size());
+  for (std::size_t q = 0; q + 1 < c->cell_start.size(); ++q)
+    if (c->cell_start[q + 1] > c->cell_start[q]) c->cell_terms[q] = c->drag.cell(g[(PetscInt)q * dof]);
+  // each particle's drag of this step with its old a and b, then its new a and b, in storage order (the particles'
+  // data are read in the order they are stored)
+  for (PetscInt p = 0; p < n; ++p) {
+    PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
+    const ParticleBody &bp  = bodies[p];
+    const PetscScalar  *gc  = g + local[p] * dof;
+    const PetscReal     eps = gc[0];
+    const Vec3          u{gc[2], gc[3], D == 3 ? gc[4] : 0.0};
+    // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
+    const PetscReal K =
+      c->drag.k(c->cell_terms[(std::size_t)local[p]], kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) /
+      (c->divide_eps ? eps : 1.0);
+    a[p]     = c->volume[p] * K;
+    cells[p] = c->order_cell[p];
+    for (int d = 0; d < 3; ++d) b[3 * p + d] = d < D ? a[p] * (&bp.v.x)[d] : 0.0;
+  }
+  // their sums per cell (eq. 2.21, 5.1), in the deposit order
+  SumPerCell<1 + D>(c, dep.a, dof, 1, [&](PetscInt p, PetscScalar *sum) {
+    sum[0] += a[p];
+    for (int d = 0; d < D; ++d) sum[1 + d] += b[3 * p + d];
+  });
+  PetscCall(DMDAFieldRestore(c->deposit_loc, &dep));
+  PetscFunctionReturn(0);
+}
+
+// Called by the DEM after the contact forces of every step: adds each particle's drag (AddDrag); at the last step
+// before a gas step, also refreshes a and b with the current void fraction and predicted velocities and sums B and M
+// per cell for the gas (eq. 2.21, 5.1), in the same pass over the particles.
 PetscErrorCode ParticleDrag(void *ctx, DM swarm, const ParticleBody *bodies)
 {
   Coupling   *c = (Coupling *)ctx;
   PetscInt    n;
   PetscReal  *f, *a, *b, sum_local[3] = {0, 0, 0};
   PetscInt64 *cells;
-  DMDAField   gas, dep;
+  DMDAField   gas;
+  const bool  refresh = c->until_gas <= 1;
 
   PetscFunctionBeginUser;
   PetscCall(PhaseBegin(c->log, PHASE_COUPLING));
   PetscCall(DMSwarmGetLocalSize(swarm, &n));
+  if (refresh) { // the void fraction at the current positions, before the pass that needs it
+    if (c->dim == 2) PetscCall(DepositOrder<2>(c, swarm, n, bodies));
+    else PetscCall(DepositOrder<3>(c, swarm, n, bodies));
+    PetscCall(DepositVoidFraction(c)); // sets the void fraction of gas_loc; its velocities are those of the last gas step
+  }
   PetscCall(DMSwarmGetField(swarm, field::force, NULL, NULL, (void **)&f));
   PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
   PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
   PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
   PetscCall(DMDAFieldGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
-  for (PetscInt p = 0; p < n; ++p) {
-    if (a[p] == 0) continue; // not linearised yet (just inserted): no drag, and its cell is not set
-    // the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the
-    // gas step used (the particle may have crossed into another cell since)
-    PetscInt cell[3];
-    CellIjk(c, cells[p], cell);
-    PetscCheck(gas.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
-    for (PetscInt d = 0; d < c->dim; ++d) {
-      const PetscReal F = a[p] * gas(cell[0], cell[1], cell[2], 2 + d) - b[3 * p + d];
-      f[3 * p + d] += F;
-      sum_local[d] += F;
-    }
-  }
+  if (c->dim == 2) PetscCall(DragPass<2>(c, n, bodies, refresh, gas, f, a, b, cells, sum_local));
+  else PetscCall(DragPass<3>(c, n, bodies, refresh, gas, f, a, b, cells, sum_local));
   PetscCall(DMDAFieldRestore(c->gas_loc, &gas));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
   PetscCall(DMSwarmRestoreField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
   PetscCall(DMSwarmRestoreField(swarm, field::force, NULL, NULL, (void **)&f));
   PetscCallMPI(MPI_Allreduce(sum_local, c->stats.drag_particles, 3, MPIU_REAL, MPI_SUM, c->comm));
-
-  if (c->until_gas <= 1) {
-    PetscCall(DepositOrder(c, swarm, n, bodies));
-    PetscCall(DepositVoidFraction(c));
-    PetscCall(DMSwarmGetField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
-    PetscCall(DMSwarmGetField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
-    PetscCall(DMSwarmGetField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
-    PetscCall(VecZeroEntries(c->deposit_loc));
-    PetscCall(DMDAFieldGet(c->da, c->deposit_loc, PETSC_TRUE, &dep));
-    PetscCall(DMDAFieldGet(c->da, c->gas_loc, PETSC_TRUE, &gas));
-    // The cells' offsets in the ghosted block (DepositOrder: order_local) address the gas and deposit arrays directly,
-    // which share that block. The law's void-fraction terms once per cell that holds particles (cell_start holds the
-    // cells' ends in the deposit order).
-    const PetscInt     dof = gas.dof, *local = c->order_local.data();
-    const PetscScalar *g  = gas.a;
-    PetscScalar       *dp = dep.a;
-    c->cell_terms.resize(c->cell_start.size());
-    for (std::size_t q = 0; q + 1 < c->cell_start.size(); ++q)
-      if (c->cell_start[q] > (q ? c->cell_start[q - 1] : 0)) c->cell_terms[q] = c->drag.cell(g[(PetscInt)q * dof]);
-    // each particle's linearised drag, in storage order (the particles' data are read in the order they are stored)
-    for (PetscInt p = 0; p < n; ++p) {
-      const ParticleBody &bp  = bodies[p];
-      const PetscScalar  *gc  = g + local[p] * dof;
-      const PetscReal     eps = gc[0];
-      Vec3                u;
-      for (PetscInt d = 0; d < c->dim; ++d) (&u.x)[d] = gc[2 + d];
-      // eq. 2.11-2.17 at the current slip; Model B divides by eps (the force that includes the dynamic pressure)
-      const PetscReal K =
-        c->drag.k(c->cell_terms[(std::size_t)local[p]], kernels::DragInput{eps, 2.0 * bp.r, c->rho_g, c->mu_g, kernels::norm(u - bp.v)}) /
-        (c->divide_eps ? eps : 1.0);
-      a[p]     = c->volume[p] * K;
-      cells[p] = c->order_cell[p];
-      for (PetscInt d = 0; d < 3; ++d) b[3 * p + d] = d < c->dim ? a[p] * (&bp.v.x)[d] : 0.0;
-    }
-    // their sums per cell (eq. 2.21, 5.1), in the deposit order
-    for (PetscInt p : c->order) {
-      PetscScalar *dc = dp + local[p] * dof;
-      dc[1] += a[p];
-      for (PetscInt d = 0; d < c->dim; ++d) dc[2 + d] += b[3 * p + d];
-    }
-    PetscCall(DMDAFieldRestore(c->gas_loc, &gas));
-    PetscCall(DMDAFieldRestore(c->deposit_loc, &dep));
+  if (refresh) {
     PetscCall(VecZeroEntries(c->deposit));
     PetscCall(DMLocalToGlobal(c->da, c->deposit_loc, ADD_VALUES, c->deposit)); // component 0 (volume) is not used
-    PetscCall(DMSwarmRestoreField(swarm, field::drag_cell, NULL, NULL, (void **)&cells));
-    PetscCall(DMSwarmRestoreField(swarm, field::drag_ref, NULL, NULL, (void **)&b));
-    PetscCall(DMSwarmRestoreField(swarm, field::drag_coef, NULL, NULL, (void **)&a));
   }
   c->until_gas--;
   PetscCall(PhaseEnd(c->log, PHASE_COUPLING));
