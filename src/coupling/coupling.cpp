@@ -51,9 +51,11 @@ struct Coupling {
   std::vector<PetscInt>   order;         // the particles by cell, then id: the summation order of the deposits
   std::vector<PetscInt>   by_id;         // the particles by id, made for the ids in storage order stored_ids
   std::vector<PetscInt64> stored_ids;
-  std::vector<PetscInt>   order_local, cell_start; // per particle: its cell's offset in the ghosted block; cells' starts in order
-  std::vector<kernels::DragCellTerms> cell_terms;  // the drag law's terms of each ghosted cell's void fraction
-  std::vector<PetscReal>              volume;      // per particle (storage order): its volume at the last deposit
+  std::vector<PetscInt>   order_local, cell_start;  // per particle: its cell's offset in the ghosted block; cells' starts in order
+  std::vector<PetscInt>   drag_local;               // per particle: order_local of the last refresh, the cells its drag was linearised in
+  bool                    drag_local_valid = false; // the storage order is the last refresh's, so drag_local holds for it
+  std::vector<kernels::DragCellTerms> cell_terms;   // the drag law's terms of each ghosted cell's void fraction
+  std::vector<PetscReal>              volume;       // per particle (storage order): its volume at the last deposit
   CouplingStats                       stats;
 };
 
@@ -102,7 +104,10 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBod
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
-  if ((PetscInt)c->stored_ids.size() != n || !std::equal(c->stored_ids.begin(), c->stored_ids.end(), ids)) {
+  const bool same = (PetscInt)c->stored_ids.size() == n && std::equal(c->stored_ids.begin(), c->stored_ids.end(), ids);
+  std::swap(c->drag_local, c->order_local); // the last refresh's cells, for the drag of this step
+  c->drag_local_valid = same && (PetscInt)c->drag_local.size() == n;
+  if (!same) {
     c->stored_ids.assign(ids, ids + n);
     c->by_id.resize(n);
     for (PetscInt p = 0; p < n; ++p) c->by_id[p] = p;
@@ -213,8 +218,19 @@ PetscErrorCode DepositVoidFraction(Coupling *c)
 }
 
 // The drag of particle p, F = a u - b (eq. 2.18, linearised at the last gas step), added to its force and to sum: u
-// is the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M the gas
-// step used (the particle may have crossed into another cell since).
+// (u[0..D)) is the gas velocity of the cell the particle was in when its drag was linearised, the cell whose B and M
+// the gas step used (the particle may have crossed into another cell since).
+template <int D>
+inline void AddDragOf(const PetscScalar *u, PetscInt p, PetscReal a, const PetscReal *b, PetscReal *f, PetscReal sum[3])
+{
+  for (int d = 0; d < D; ++d) {
+    const PetscReal F = a * u[d] - b[3 * p + d];
+    f[3 * p + d] += F;
+    sum[d] += F;
+  }
+}
+
+// The same with the cell found from its flat index (the swarm's drag_cell, which moves with the particle).
 template <int D>
 inline PetscErrorCode AddDrag(const Coupling *c, const DMDAField &gas, PetscInt p, PetscReal a, const PetscReal *b, PetscInt64 flat,
                               PetscReal *f, PetscReal sum[3])
@@ -225,11 +241,7 @@ inline PetscErrorCode AddDrag(const Coupling *c, const DMDAField &gas, PetscInt 
   if (a == 0) PetscFunctionReturn(0); // not linearised yet (just inserted): no drag, and its cell is not set
   CellIjk<D>(c, flat, cell);
   PetscCheck(gas.Contains(cell), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle outside its rank's coupling halo");
-  for (int d = 0; d < D; ++d) {
-    const PetscReal F = a * gas(cell[0], cell[1], cell[2], 2 + d) - b[3 * p + d];
-    f[3 * p + d] += F;
-    sum[d] += F;
-  }
+  AddDragOf<D>(&gas(cell[0], cell[1], cell[2], 2), p, a, b, f, sum);
   PetscFunctionReturn(0);
 }
 
@@ -258,7 +270,9 @@ PetscErrorCode DragPass(Coupling *c, PetscInt n, const ParticleBody *bodies, boo
   // each particle's drag of this step with its old a and b, then its new a and b, in storage order (the particles'
   // data are read in the order they are stored)
   for (PetscInt p = 0; p < n; ++p) {
-    PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
+    // the cell of the last refresh by its offset where the storage order is still that refresh's, else by its index
+    if (!c->drag_local_valid) PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
+    else if (a[p] != 0) AddDragOf<D>(g + c->drag_local[(std::size_t)p] * dof + 2, p, a[p], b, f, sum_local);
     const ParticleBody &bp  = bodies[p];
     const PetscScalar  *gc  = g + local[p] * dof;
     const PetscReal     eps = gc[0];
