@@ -530,6 +530,11 @@ PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
   PetscCall(VecLoad(c->gas, viewer));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/coupling", "until_gas", PETSC_INT, NULL, &c->until_gas));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
+  // the particles are those of the checkpoint: nothing kept from an earlier refresh describes them
+  c->stored_ids.clear();
+  c->drag_local.clear();
+  c->order_local.clear();
+  c->drag_local_valid = false;
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
   {
     // a rescue may change -couple_substeps on a restart: the DEM steps already taken of the current gas step are kept
