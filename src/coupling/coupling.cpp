@@ -51,11 +51,11 @@ struct Coupling {
   std::vector<PetscInt>   order;         // the particles by cell, then id: the summation order of the deposits
   std::vector<PetscInt>   by_id;         // the particles by id, made for the ids in storage order stored_ids
   std::vector<PetscInt64> stored_ids;
-  std::vector<PetscInt>   order_local, cell_start;  // per particle: its cell's offset in the ghosted block; cells' starts in order
-  std::vector<PetscInt>   drag_local;               // per particle: order_local of the last refresh, the cells its drag was linearised in
-  bool                    drag_local_valid = false; // the storage order is the last refresh's, so drag_local holds for it
-  std::vector<kernels::DragCellTerms> cell_terms;   // the drag law's terms of each ghosted cell's void fraction
-  std::vector<PetscReal>              volume;       // per particle (storage order): its volume at the last deposit
+  std::vector<PetscInt>   order_local, cell_start; // per particle: its cell's offset in the ghosted block; cells' starts in order
+  std::vector<PetscInt>   drag_local;              // per particle: order_local of the last refresh, the cells its drag was linearised in;
+                                                   // empty where the storage order is no longer that refresh's
+  std::vector<kernels::DragCellTerms> cell_terms;  // the drag law's terms of each ghosted cell's void fraction
+  std::vector<PetscReal>              volume;      // per particle (storage order): its volume at the last deposit
   CouplingStats                       stats;
 };
 
@@ -106,8 +106,8 @@ PetscErrorCode DepositOrder(Coupling *c, DM swarm, PetscInt n, const ParticleBod
   PetscCall(DMSwarmGetField(swarm, field::id, NULL, NULL, (void **)&ids));
   const bool same = (PetscInt)c->stored_ids.size() == n && std::equal(c->stored_ids.begin(), c->stored_ids.end(), ids);
   std::swap(c->drag_local, c->order_local); // the last refresh's cells, for the drag of this step
-  c->drag_local_valid = same && (PetscInt)c->drag_local.size() == n;
   if (!same) {
+    c->drag_local.clear();
     c->stored_ids.assign(ids, ids + n);
     c->by_id.resize(n);
     for (PetscInt p = 0; p < n; ++p) c->by_id[p] = p;
@@ -271,7 +271,7 @@ PetscErrorCode DragPass(Coupling *c, PetscInt n, const ParticleBody *bodies, boo
   // data are read in the order they are stored)
   for (PetscInt p = 0; p < n; ++p) {
     // the cell of the last refresh by its offset where the storage order is still that refresh's, else by its index
-    if (!c->drag_local_valid) PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
+    if (c->drag_local.empty()) PetscCall(AddDrag<D>(c, gas, p, a[p], b, cells[p], f, sum_local));
     else if (a[p] != 0) AddDragOf<D>(g + c->drag_local[(std::size_t)p] * dof + 2, p, a[p], b, f, sum_local);
     const ParticleBody &bp  = bodies[p];
     const PetscScalar  *gc  = g + local[p] * dof;
@@ -530,11 +530,8 @@ PetscErrorCode CouplingReadHDF5(Coupling *c, PetscViewer viewer)
   PetscCall(VecLoad(c->gas, viewer));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/coupling", "until_gas", PETSC_INT, NULL, &c->until_gas));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
-  // the particles are those of the checkpoint: nothing kept from an earlier refresh describes them
+  // the particles are those of the checkpoint: the next refresh keeps nothing of the earlier ones (DepositOrder)
   c->stored_ids.clear();
-  c->drag_local.clear();
-  c->order_local.clear();
-  c->drag_local_valid = false;
   PetscCall(DMGlobalToLocal(c->da, c->gas, INSERT_VALUES, c->gas_loc));
   {
     // a rescue may change -couple_substeps on a restart: the DEM steps already taken of the current gas step are kept
