@@ -5,6 +5,9 @@
 // divergence-free eps u gives a divergence-free transport field for the momentum volumes too), and the transported
 // velocity is the TVD-limited upwind value (kernels/fluid_flux.hpp). The viscous term is mu div(eps grad u_a), with
 // eps at the cell centre (faces normal to a) or averaged over the four cells around the edge (other faces).
+#include <type_traits>
+#include <utility>
+
 #include "fluid_impl.hpp"
 
 namespace fluidbed {
@@ -29,112 +32,159 @@ void FaceFluxes(const Fluid *f, const DMDAField &U, const DMDAField &E0, PetscIn
   }
 }
 
-// The convective transport F v through the faces of the control volumes of velocity component a, each computed
+// Calls fn(std::integral_constant<int, b>) for b = 0, ..., N - 1 in that order: loops over directions whose bounds
+// and branches the compiler resolves (the sums keep their order, so the results are those of the plain loops).
+template <class Fn, int... B>
+inline void StaticForImpl(Fn &&fn, std::integer_sequence<int, B...>)
+{
+  (fn(std::integral_constant<int, B>{}), ...);
+}
+template <int N, class Fn>
+inline void StaticFor(Fn &&fn)
+{
+  StaticForImpl(fn, std::make_integer_sequence<int, N>{});
+}
+
+// The convective transport F v through the faces of the control volumes of velocity component A, each computed
 // once although it is the upper face of one control volume and the lower face of the next: F the mean of the two
 // cell-face fluxes it lies between, v the TVD-limited upwind value. G[b * N + p] is the face normal to b
-// - b = a: at the centre of the cell at offset p (the upper face of the control volume of the a-face of that cell);
-// - b != a: between the a-faces of the cells p and p - a, on their lower b-faces (the lower face of the control
-//   volume of the a-face of cell p).
-template <kernels::Limiter L>
-void ControlVolumeTransport(const Fluid *f, const DMDAField &U, const PetscReal *flux, PetscInt N, int a, PetscReal *G)
+// - b = A: at the centre of the cell at offset p (the upper face of the control volume of the A-face of that cell);
+// - b != A: between the A-faces of the cells p and p - A, on their lower b-faces (the lower face of the control
+//   volume of the A-face of cell p).
+// U holds DIM components per cell (da_u), so its offsets are known to the compiler.
+template <kernels::Limiter L, int DIM, int A>
+void ControlVolumeTransport(const Fluid *f, const DMDAField &U, const PetscReal *flux, PetscInt N, PetscReal *G)
 {
-  const PetscInt   dof = U.dof, sa = U.stride(a);
-  const PetscReal *u = U.a + a; // u[p * dof]: component a at the cell at offset p
-  for (int b = 0; b < f->dim; ++b) {
+  constexpr PetscInt dof = DIM;
+  const PetscInt     sa  = U.stride(A);
+  const PetscReal   *u   = U.a + A; // u[p * dof]: component A at the cell at offset p
+  StaticFor<DIM>([&](auto bc) {
+    constexpr int    b  = decltype(bc)::value;
     const PetscInt   sb = U.stride(b);
     const PetscReal *Fb = flux + b * N;
     PetscReal       *Gb = G + b * N;
     PetscInt         lo[3], hi[3];
     OwnedBox(f, lo, hi);
-    if (b == a) {
-      lo[a] -= 1; // the lower face of the first control volume is the centre of the cell below it
+    if constexpr (b == A) {
+      lo[A] -= 1; // the lower face of the first control volume is the centre of the cell below it
       ForEachCellInBox(U, lo, hi, [&](PetscInt p) {
         const PetscReal F = 0.5 * (Fb[p] + Fb[p + sa]);
         Gb[p]             = F * kernels::upwind_face_value<L>(F, u[(p - sa) * dof], u[p * dof], u[(p + sa) * dof], u[(p + 2 * sa) * dof]);
       });
-      continue;
-    }
-    hi[b] += 1; // the upper face of the last control volume
-    ForEachCellInBox(U, lo, hi, [&](PetscInt p) {
-      const PetscReal F = 0.5 * (Fb[p - sa] + Fb[p]);
-      Gb[p]             = F * kernels::upwind_face_value<L>(F, u[(p - 2 * sb) * dof], u[(p - sb) * dof], u[p * dof], u[(p + sb) * dof]);
-    });
-    if (f->periodic[b]) continue;
-    // on the boundary the carried value is the boundary's when the flow comes in, the interior's when it leaves
-    for (int side = 0; side < 2; ++side) {
-      const PetscInt e = side ? f->n[b] : 0;
-      if (e < lo[b] || e >= hi[b]) continue; // not on this rank
-      PetscInt plo[3] = {lo[0], lo[1], lo[2]}, phi[3] = {hi[0], hi[1], hi[2]};
-      plo[b]               = e;
-      phi[b]               = e + 1;
-      const PetscReal wall = f->wall_velocity[2 * b + side][a];
-      ForEachCellInBox(U, plo, phi, [&](PetscInt p) {
+    } else {
+      hi[b] += 1; // the upper face of the last control volume
+      ForEachCellInBox(U, lo, hi, [&](PetscInt p) {
         const PetscReal F = 0.5 * (Fb[p - sa] + Fb[p]);
-        Gb[p]             = F * (side ? (F < 0 ? wall : u[(p - sb) * dof]) : (F > 0 ? wall : u[p * dof]));
+        Gb[p]             = F * kernels::upwind_face_value<L>(F, u[(p - 2 * sb) * dof], u[(p - sb) * dof], u[p * dof], u[(p + sb) * dof]);
       });
+      if (f->periodic[b]) return;
+      // on the boundary the carried value is the boundary's when the flow comes in, the interior's when it leaves
+      for (int side = 0; side < 2; ++side) {
+        const PetscInt e = side ? f->n[b] : 0;
+        if (e < lo[b] || e >= hi[b]) continue; // not on this rank
+        PetscInt plo[3] = {lo[0], lo[1], lo[2]}, phi[3] = {hi[0], hi[1], hi[2]};
+        plo[b]               = e;
+        phi[b]               = e + 1;
+        const PetscReal wall = f->wall_velocity[2 * b + side][A];
+        ForEachCellInBox(U, plo, phi, [&](PetscInt p) {
+          const PetscReal F = 0.5 * (Fb[p - sa] + Fb[p]);
+          Gb[p]             = F * (side ? (F < 0 ? wall : u[(p - sb) * dof]) : (F > 0 ? wall : u[p * dof]));
+        });
+      }
     }
-  }
+  });
 }
 
-// The predicted velocity of component a on the faces this rank owns, boundary faces excepted (set by the boundary
-// conditions), from the transport G of ControlVolumeTransport.
-void PredictComponent(const Fluid *f, PetscReal dt, int a, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S,
+// The predicted velocity of component A on the faces this rank owns, boundary faces excepted (set by the boundary
+// conditions), from the transport G of ControlVolumeTransport. The fluid's constants are read once into locals:
+// the stores into Un could alias them, which made the compiler load them again for every face.
+template <int DIM, int A>
+void PredictComponent(const Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S,
                       const DMDAField &B, const DMDAField &Un, const PetscReal *G, PetscInt N)
 {
-  const int        dim = (int)f->dim;
-  const PetscInt   dof = U.dof, sa = U.stride(a), sdof = S.dof, ssa = S.stride(a);
-  const PetscReal  nu = f->mu / f->rho, rho_g = f->rho * f->dom->gravity[a];
-  const PetscReal *u = U.a + a, *e0 = E0.a, *e = E.a, *s = S.a + a, *be = B.a;
-  PetscReal       *un = Un.a + a;
-  PetscReal        coef[3];
-  PetscInt         st[3], lo[3], hi[3];
+  constexpr PetscInt dof = DIM; // U, S and Un: da_u and da_c, one component per direction
+  const PetscInt     sa = U.stride(A), ssa = S.stride(A);
+  const PetscReal    nu = f->mu / f->rho, rho_g = f->rho * f->dom->gravity[A];
+  const PetscReal    rho = f->rho, vol = f->vol, body_force = f->body_force[A];
+  const bool         model_b = f->model == FLUID_MODEL_B, has_drag = f->has_drag;
+  const PetscReal   *u = U.a + A, *e0 = E0.a, *e = E.a, *s = S.a + A, *be = B.a;
+  PetscReal         *un = Un.a + A;
+  PetscReal          coef[3];
+  PetscInt           st[3], lo[3], hi[3];
+  const PetscReal   *Gs[3];
   for (int b = 0; b < 3; ++b) {
     coef[b] = f->area[b] / f->h[b];
     st[b]   = U.stride(b);
+    Gs[b]   = G + b * N;
   }
   OwnedBox(f, lo, hi);
-  if (!f->periodic[a]) lo[a] = PetscMax(lo[a], 1); // boundary face: set by the boundary conditions
+  if (!f->periodic[A]) lo[A] = PetscMax(lo[A], 1); // boundary face: set by the boundary conditions
   for (PetscInt k = lo[2]; k < hi[2]; ++k)
     for (PetscInt j = lo[1]; j < hi[1]; ++j) {
       PetscInt p = U.cell(lo[0], j, k), ps = S.cell(lo[0], j, k), q = Un.cell(lo[0], j, k);
       for (PetscInt i = lo[0]; i < hi[0]; ++i, ++p, ++ps, ++q) {
         const PetscInt l    = p - sa; // the cell below the face
         PetscReal      conv = 0, visc = 0;
-        for (int b = 0; b < dim; ++b) {
-          const PetscReal *Gb = G + b * N;
-          const PetscInt   sb = st[b];
-          if (b == a) {
+        StaticFor<DIM>([&](auto bc) {
+          constexpr int    b  = decltype(bc)::value;
+          const PetscReal *Gb = Gs[b];
+          if constexpr (b == A) {
             // faces of the control volume at the centres of cells P (upper) and L (lower)
             conv += Gb[p] - Gb[l];
-            visc += coef[a] * (e0[p] * (u[(p + sa) * dof] - u[p * dof]) - e0[l] * (u[p * dof] - u[l * dof]));
+            visc += coef[A] * (e0[p] * (u[(p + sa) * dof] - u[p * dof]) - e0[l] * (u[p * dof] - u[l * dof]));
           } else {
             // faces of the control volume on the b-faces of cells L and P (lower) and their upper neighbours
+            const PetscInt sb = st[b];
             conv += Gb[p + sb] - Gb[p];
             const PetscReal elo = 0.25 * (e0[l] + e0[p] + e0[l - sb] + e0[p - sb]);
             const PetscReal ehi = 0.25 * (e0[l] + e0[p] + e0[l + sb] + e0[p + sb]);
             visc += coef[b] * (ehi * (u[(p + sb) * dof] - u[p * dof]) - elo * (u[p * dof] - u[(p - sb) * dof]));
           }
-        }
+        });
         const PetscReal eps_old = 0.5 * (e0[l] + e0[p]), eps_new = 0.5 * (e[l] + e[p]);
-        const PetscReal gravity = rho_g * (f->model == FLUID_MODEL_B ? 1.0 : eps_new);
-        const PetscReal source  = 0.5 * (s[(ps - ssa) * sdof] + s[ps * sdof]) + f->body_force[a];
-        const PetscReal m       = eps_old * u[p * dof] + dt * ((nu * visc - conv) / f->vol + (source + gravity) / f->rho);
-        const PetscReal beta    = f->has_drag ? 0.5 * (be[l] + be[p]) : 0.0; // implicit drag: m = (eps + dt beta / rho) u*
-        un[q * dof]             = m / (eps_new + dt * beta / f->rho);
+        const PetscReal gravity = rho_g * (model_b ? 1.0 : eps_new);
+        const PetscReal source  = 0.5 * (s[(ps - ssa) * dof] + s[ps * dof]) + body_force;
+        const PetscReal m       = eps_old * u[p * dof] + dt * ((nu * visc - conv) / vol + (source + gravity) / rho);
+        const PetscReal beta    = has_drag ? 0.5 * (be[l] + be[p]) : 0.0; // implicit drag: m = (eps + dt beta / rho) u*
+        un[q * dof]             = m / (eps_new + dt * beta / rho);
       }
     }
 }
 
-template <kernels::Limiter L>
+template <kernels::Limiter L, int DIM>
 void Predict(Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S, const DMDAField &B,
              const DMDAField &Un)
 {
   const PetscInt N    = U.m[0] * U.m[1] * U.m[2];
-  PetscReal     *flux = FluidWork(f, (std::size_t)(2 * f->dim * N)), *G = flux + f->dim * N;
+  PetscReal     *flux = FluidWork(f, (std::size_t)(2 * DIM * N)), *G = flux + DIM * N;
   FaceFluxes(f, U, E0, N, flux);
-  for (int a = 0; a < f->dim; ++a) {
-    ControlVolumeTransport<L>(f, U, flux, N, a, G);
-    PredictComponent(f, dt, a, U, E0, E, S, B, Un, G, N);
+  StaticFor<DIM>([&](auto ac) {
+    constexpr int A = decltype(ac)::value;
+    ControlVolumeTransport<L, DIM, A>(f, U, flux, N, G);
+    PredictComponent<DIM, A>(f, dt, U, E0, E, S, B, Un, G, N);
+  });
+}
+
+template <int DIM>
+void PredictWithLimiter(Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S,
+                        const DMDAField &B, const DMDAField &Un)
+{
+  switch (f->limiter) {
+  case kernels::Limiter::Upwind:
+    Predict<kernels::Limiter::Upwind, DIM>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::VanLeer:
+    Predict<kernels::Limiter::VanLeer, DIM>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Koren:
+    Predict<kernels::Limiter::Koren, DIM>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Minmod:
+    Predict<kernels::Limiter::Minmod, DIM>(f, dt, U, E0, E, S, B, Un);
+    break;
+  case kernels::Limiter::Superbee:
+    Predict<kernels::Limiter::Superbee, DIM>(f, dt, U, E0, E, S, B, Un);
+    break;
   }
 }
 
@@ -155,23 +205,11 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
   // addresses them all
   PetscCheck(SameLayout(U, E0) && SameLayout(U, E) && SameLayout(U, B), f->comm, PETSC_ERR_PLIB,
              "the velocity and scalar ghosted layouts differ");
-  switch (f->limiter) {
-  case kernels::Limiter::Upwind:
-    Predict<kernels::Limiter::Upwind>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::VanLeer:
-    Predict<kernels::Limiter::VanLeer>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Koren:
-    Predict<kernels::Limiter::Koren>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Minmod:
-    Predict<kernels::Limiter::Minmod>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Superbee:
-    Predict<kernels::Limiter::Superbee>(f, dt, U, E0, E, S, B, Un);
-    break;
-  }
+  // one velocity component per direction in U, S and Un (the predictor's offsets count on it)
+  PetscCheck(U.dof == f->dim && S.dof == f->dim && Un.dof == f->dim, f->comm, PETSC_ERR_PLIB,
+             "the velocity layouts do not hold %d components", (int)f->dim);
+  if (f->dim == 2) PredictWithLimiter<2>(f, dt, U, E0, E, S, B, Un);
+  else PredictWithLimiter<3>(f, dt, U, E0, E, S, B, Un);
   PetscCall(DMDAFieldRestore(f->u, &Un));
   PetscCall(DMDAFieldRestore(f->drag_loc, &B));
   PetscCall(DMDAFieldRestore(f->source_loc, &S));
