@@ -91,6 +91,7 @@ struct NeighbourScratch {
   std::vector<PetscInt64>                    entry_id;                 // per list entry: the partner's id
   std::vector<Candidate>                     found;                    // one particle's partners, sorted by id
   std::vector<PetscInt>                      fill, ready;
+  std::vector<PetscInt>                      pair_out; // per pair: its ContactPair::out, compact for the entries' remap
 };
 
 // The DEM: the particles' motion and, on top of it, the contact stage.

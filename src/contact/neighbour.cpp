@@ -225,9 +225,15 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   nl.wall_start.assign((std::size_t)nlocal + 1, 0);
   nl.walls.clear();
   nl.wall_hist.clear();
+  constexpr PetscInt kSlotPrefetch = 4; // particles ahead: their held slots are fetched while this one's are read
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
     PetscInt    wall_slot[FACE_COUNT];
+    if (i + kSlotPrefetch < nlocal) {
+      const PetscInt64 *ahead = key + K * kSlotPrefetch;
+      for (PetscInt s = 0; s < K; ++s)
+        if (ahead[s] >= 0) __builtin_prefetch(SlotHistory(p, i + kSlotPrefetch, s));
+    }
     for (int f = 0; f < FACE_COUNT; ++f) wall_slot[f] = -1;
     // Each held slot: a wall's, or a partner's found among the entries (sorted by id) by bisection, or freed.
     const PetscInt e0 = nl.start[(std::size_t)i], e1 = nl.start[(std::size_t)i + 1];
@@ -289,13 +295,16 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
       nl.max_pairs = PetscMax(nl.max_pairs, nl.pair_start[(std::size_t)i + 1] - nl.pair_start[(std::size_t)i]);
     const PetscInt delay = kLanePairsVisited + nl.max_pairs;
     nl.ncontrib          = kContributionRing;
+    w.pair_out.resize(nl.pairs.size());
     for (PetscInt i = 0; i < nlocal; ++i)
       for (PetscInt q = nl.pair_start[(std::size_t)i]; q < nl.pair_start[(std::size_t)i + 1]; ++q) {
         ContactPair   &pr   = nl.pairs[(std::size_t)q];
         const PetscInt last = PetscMax(ready[(std::size_t)i], pr.partner < nlocal ? ready[(std::size_t)pr.partner] : i);
         pr.out              = nl.pair_start[(std::size_t)last + 1] + delay <= q + kContributionRing ? q % kContributionRing : nl.ncontrib++;
+        w.pair_out[(std::size_t)q] = pr.out;
       }
-    for (PetscInt &c : nl.entries) c = 2 * nl.pairs[(std::size_t)(c / 2)].out + c % 2;
+    // the partner side's entries name pairs far away in nl.pairs: read their places from the compact copy
+    for (PetscInt &c : nl.entries) c = 2 * w.pair_out[(std::size_t)(c / 2)] + c % 2;
   }
   dem->x_ref.resize(3 * (std::size_t)nlocal);
   dem->x_move.assign(share.begin(), share.begin() + nlocal);
