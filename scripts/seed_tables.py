@@ -11,14 +11,24 @@ rate of eq. 3.6 (ours and the seed's from the Table 3.6 inputs, with rho_p = 250
 Each run is a folder of scripts/validate.sh (its command.txt names examples/<scene>.opts; its analysis.h5 holds the
 solver's time averages, -average_start). Prints a markdown table per run; --json writes the rows.
 
+The seed's expanded volume is "the volume of all the fluid cells having particles in them", without saying whether of
+each instant or of the time-averaged field. The solver's measure counts the cells of the time-averaged field, which
+include every cell the fountain reached in the window; where the run's snapshots (-output_interval) fall in the
+window, the table also gives the same count per snapshot (cells with void fraction below 1), averaged over them, and
+the bulk solid fraction and circulation with that height.
+
     scripts/seed_tables.py bench/spouted550_kn150/spouted_550_jet1_u160 [more runs] [--json tables.json]
 
 A run without analysis.h5, or of a scene the seed's tables do not hold, ends it with a message and exit status 2."""
 import argparse
+import glob
 import json
 import os
 import re
 import sys
+
+import h5py
+import numpy as np
 
 from fluidbed_tools import outputs
 
@@ -99,7 +109,41 @@ def rows(run):
            ("fraction of the bed moving down", m["fraction_moving_down"], s["f_down"], None),
            ("mean downward speed (m/s)", m["mean_downward_speed"], s["v_down"], None),
            ("solid circulation, eq. 3.6 (g/s)", 1e3 * seed_circulation(ours), 1e3 * seed_circulation(s), None)]
-    return scene, m, out + pressure_drop_row(m)
+    return scene, m, out + snapshot_rows(run, s, m) + pressure_drop_row(m)
+
+
+def snapshot_heights(run, start, end):
+    """The expanded-volume height of each snapshot of the run in [start, end] (s): the share of the gas cells holding
+    particles (void fraction below 1) times the domain's height, which is their volume over the cross-section (the
+    seed's expanded volume over the bed volume times the bed's height). Empty where no snapshot falls in the window."""
+    heights = []
+    for path in sorted(glob.glob(os.path.join(run, "snapshot_*.h5"))):
+        with h5py.File(path, "r") as f:
+            if "time" not in f.attrs or "fluid/void_fraction" not in f:
+                continue
+            t = float(np.ravel(f.attrs["time"])[0])
+            if not (start - 1e-6 <= t <= end + 1e-6):
+                continue
+            eps = np.asarray(f["fluid/void_fraction"][()], float)
+        with h5py.File(os.path.join(run, "analysis.h5"), "r") as f:
+            height = float(f["grid/spacing"][1] * f["grid/cells"][1])
+        heights.append(np.count_nonzero(eps < 1.0) / eps.size * height)
+    return np.array(heights)
+
+
+def snapshot_rows(run, s, m):
+    """Rows of the per-snapshot expanded volume (snapshot_heights over the averaging window), with eq. 3.7 and 3.6 from
+    it and the same fraction moving down and mean downward speed."""
+    h = snapshot_heights(run, m["window_start"], m["window_end"])
+    if h.size == 0:
+        return []
+    bulk = m["bulk_solid_fraction"] * m["expanded_bed_height_volume"] / h.mean()  # eq. 3.7: the same mass over this height
+    ours = dict(bulk=bulk, f_down=m["fraction_moving_down"], v_down=m["mean_downward_speed"])
+    seed_h = s["h_sim"] if s["method"] == "volume" else None
+    return [("expanded bed height, expanded volume per snapshot, mean of %d (mm)" % h.size, 1e3 * h.mean(), seed_h, None),
+            ("the same, standard deviation over the snapshots (mm)", 1e3 * h.std(), None, None),
+            ("bulk solid fraction (eq. 3.7) with the per-snapshot height", bulk, s["bulk"] if seed_h else None, None),
+            ("solid circulation, eq. 3.6, with it (g/s)", 1e3 * seed_circulation(ours), 1e3 * seed_circulation(s) if seed_h else None, None)]
 
 
 def rows_chapter4(s, m):

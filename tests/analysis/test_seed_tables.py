@@ -3,13 +3,16 @@
 Table 3.4) and the seed's own Table 3.6 inputs is reported as +10.0% and 0.0%, and its circulation of eq. 3.6 equals the
 seed's inputs' rho_p eps_sb f_neg |v_neg| A_d (computed here by hand: 2500 x 0.518 x 0.549 x 0.0328 x 0.0564 x 0.00495
 kg/s); the single jet at 3 U_mf takes its height from the expanded volume (the seed's 88.5 mm) and the double jet from
-the cut-off (Table 3.5); the nine-jet 2D bed is set beside chapter 4's height, bulk fraction and jet height; a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
+the cut-off (Table 3.5); the 3 U_mf single jet's snapshots in the averaging window (two of three) give the expanded
+volume per snapshot, the share of cells with void fraction below 1 times the domain's height, 62.5 and 80 mm: 71.25 mm
+on average, 8.75 mm apart, and eq. 3.7's bulk fraction with it (the same mass over that height); the nine-jet 2D bed is set beside chapter 4's height, bulk fraction and jet height; a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
 import json
 import os
 import subprocess
 import sys
 
 import h5py
+import numpy as np
 
 from fluidbed_tools import testing as t
 
@@ -32,6 +35,19 @@ circ = 2500 * 0.518 * 0.549 * 0.0328 * 0.0564 * 0.00495
 fake_run("jet1", "spouted_550_jet1_u160", dict(base, expanded_bed_height_volume=0.070, expanded_bed_height_cutoff=0.06633, solid_circulation=circ))
 fake_run("jet1_u301", "spouted_550_jet1_u301", dict(base, expanded_bed_height_volume=0.0885, expanded_bed_height_cutoff=0.050, solid_circulation=circ,
                                                      bulk_solid_fraction=0.353))
+# jet1_u301's snapshots on a grid of 4 x 10 x 1 cells, 100 mm high: at 6 s the lowest six rows and one cell of the
+# seventh hold particles (25 of 40 cells: 62.5 mm), at 7 s the lowest eight rows (80 mm), at 4 s (before the window)
+# all of them
+with h5py.File(os.path.join("jet1_u301", "analysis.h5"), "a") as f:
+    f["grid/cells"], f["grid/spacing"], f["grid/origin"] = [4, 10, 1], [0.01, 0.01, 0.005], [0.0, 0.0, 0.0]
+for k, (time, full_rows, extra) in enumerate([(4.0, 10, 0), (6.0, 6, 1), (7.0, 8, 0)]):
+    eps = np.ones((1, 10, 4))
+    eps[0, :full_rows, :] = 0.5
+    if extra:
+        eps[0, full_rows, :extra] = 0.99
+    with h5py.File(os.path.join("jet1_u301", "snapshot_%05d.h5" % k), "w") as f:
+        f.attrs["time"] = time
+        f["fluid/void_fraction"] = eps
 fake_run("jet2", "spouted_550_jet2_u160", dict(base, expanded_bed_height_volume=0.070, expanded_bed_height_cutoff=0.05822, solid_circulation=circ))
 
 
@@ -53,6 +69,13 @@ t.check("| bulk solid fraction (eq. 3.7, with the height above) | 0.518 | 0.518 
         "Table 3.6's bulk solid fraction beside ours, with the cut-off height at 1.6 U_mf (not the expanded volume's 0.40)")
 t.check("| bulk solid fraction (eq. 3.7, with the height above) | 0.353 | 0.353 | - | +0.0% |" in p.stdout,
         "and with the expanded-volume height at 3 U_mf")
+t.check("| expanded bed height, expanded volume per snapshot, mean of 2 (mm) | 71.25 | 88.5 | - | -19.5% |" in p.stdout,
+        "the 3 U_mf single jet's expanded volume per snapshot: the two snapshots in the window, 62.5 and 80 mm")
+t.check("| the same, standard deviation over the snapshots (mm) | 8.75 | - | - | - |" in p.stdout, "and their spread")
+bulk = 0.353 * 88.5 / 71.25
+t.check("| bulk solid fraction (eq. 3.7) with the per-snapshot height | %.4g | 0.353 |" % bulk in p.stdout,
+        "eq. 3.7 with the per-snapshot height: %.4g (the same mass over 71.25 instead of 88.5 mm)" % bulk)
+t.check(p.stdout.count("per snapshot") == 1, "no per-snapshot rows for the runs without snapshots")
 rows = {r["quantity"]: r for r in json.load(open("tables.json"))[0]["rows"]}
 c = rows["solid circulation, eq. 3.6 (g/s)"]
 t.check(abs(c["seed_simulation"] - 1e3 * circ) < 1e-9 and abs(c["ours"] - 1e3 * circ) < 1e-9,
