@@ -229,7 +229,7 @@ PetscErrorCode DemNeighbourBuild(Dem *dem)
   for (PetscInt i = 0; i < nlocal; ++i) {
     PetscInt64 *key = &p.ckey[K * i];
     PetscInt    wall_slot[FACE_COUNT];
-    if (i + 2 * kSlotPrefetch < nlocal) // the keys of the particle twice as far ahead, read at its turn above
+    if (i + 2 * kSlotPrefetch < nlocal) // the keys of the particle eight ahead, which the slot prefetch reads four particles later
       for (PetscInt s = 0; s < K; s += 8) __builtin_prefetch(key + K * 2 * kSlotPrefetch + s);
     if (i + kSlotPrefetch < nlocal) {
       const PetscInt64 *ahead = key + K * kSlotPrefetch;
