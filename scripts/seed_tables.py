@@ -116,6 +116,8 @@ def snapshot_heights(run, start, end):
     """The expanded-volume height of each snapshot of the run in [start, end] (s): the share of the gas cells holding
     particles (void fraction below 1) times the domain's height, which is their volume over the cross-section (the
     seed's expanded volume over the bed volume times the bed's height). Empty where no snapshot falls in the window."""
+    with h5py.File(os.path.join(run, "analysis.h5"), "r") as f:
+        height = float(f["grid/spacing"][1] * f["grid/cells"][1])
     heights = []
     for path in sorted(glob.glob(os.path.join(run, "snapshot_*.h5"))):
         with h5py.File(path, "r") as f:
@@ -125,8 +127,6 @@ def snapshot_heights(run, start, end):
             if not (start - 1e-6 <= t <= end + 1e-6):
                 continue
             eps = np.asarray(f["fluid/void_fraction"][()], float)
-        with h5py.File(os.path.join(run, "analysis.h5"), "r") as f:
-            height = float(f["grid/spacing"][1] * f["grid/cells"][1])
         heights.append(np.count_nonzero(eps < 1.0) / eps.size * height)
     return np.array(heights)
 
