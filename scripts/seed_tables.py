@@ -116,10 +116,13 @@ def snapshot_heights(run, start, end):
     """The expanded-volume height of each snapshot of the run in [start, end] (s): the share of the gas cells holding
     particles (void fraction below 1) times the domain's height, which is their volume over the cross-section (the
     seed's expanded volume over the bed volume times the bed's height). Empty where no snapshot falls in the window."""
+    paths = sorted(glob.glob(os.path.join(run, "snapshot_*.h5")))
+    if not paths:
+        return np.array([])
     with h5py.File(os.path.join(run, "analysis.h5"), "r") as f:
         height = float(f["grid/spacing"][1] * f["grid/cells"][1])
     heights = []
-    for path in sorted(glob.glob(os.path.join(run, "snapshot_*.h5"))):
+    for path in paths:
         with h5py.File(path, "r") as f:
             if "time" not in f.attrs or "fluid/void_fraction" not in f:
                 continue
