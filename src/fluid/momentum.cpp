@@ -219,6 +219,43 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+// The largest convective and viscous rates of the owned cells (loc[0], loc[1]) and the largest face speed, for a grid
+// of DIM dimensions (U holds DIM components per cell).
+template <int DIM>
+void MaxCellRates(const Fluid *f, const DMDAField &U, const DMDAField &E, const kernels::StepRateGrid &grid, PetscReal loc[2],
+                  PetscReal *max_speed)
+{
+  constexpr PetscInt dof = DIM;
+  const PetscReal   *u = U.a, *e = E.a;
+  PetscInt           su[3], se[3];
+  for (int a = 0; a < 3; ++a) {
+    su[a] = U.stride(a);
+    se[a] = E.stride(a);
+  }
+  PetscReal conv = loc[0], visc = loc[1], top = *max_speed; // in registers through the loop
+  ForEachOwnedOffset(f, U, E, [&](PetscInt pu, PetscInt pe) {
+    PetscReal speed[3] = {0, 0, 0}, emin = e[pe], emax = e[pe];
+    for (int a = 0; a < DIM; ++a) {
+      speed[a] = PetscMax(PetscAbsReal(u[pu * dof + a]), PetscAbsReal(u[(pu + su[a]) * dof + a]));
+      for (int d = -1; d <= 1; d += 2) {
+        emin = PetscMin(emin, e[pe + d * se[a]]);
+        emax = PetscMax(emax, e[pe + d * se[a]]);
+      }
+      top = PetscMax(top, speed[a]);
+    }
+    const kernels::StepRates r = kernels::explicit_step_rates<DIM>(grid, speed, emax / emin);
+    conv                       = PetscMax(conv, r.conv);
+    visc                       = PetscMax(visc, r.visc);
+  });
+  loc[0]     = conv;
+  loc[1]     = visc;
+  *max_speed = top;
+}
+
+} // namespace
+
 PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
 {
   DMDAField       U, E;
@@ -229,30 +266,11 @@ PetscErrorCode FluidStepRates(Fluid *f, kernels::StepRates *rates)
   PetscFunctionBeginUser;
   PetscCall(DMDAFieldGet(f->da_u, f->u_loc, PETSC_TRUE, &U));
   PetscCall(DMDAFieldGet(f->da_s, f->eps_loc, PETSC_TRUE, &E));
+  PetscCheck(U.dof == f->dim, f->comm, PETSC_ERR_PLIB, "the velocity layout does not hold %d components", (int)f->dim);
   {
-    const int                   dim = (int)f->dim;
-    const PetscInt              dof = U.dof;
-    const PetscReal            *u = U.a, *e = E.a;
-    const kernels::StepRateGrid grid = kernels::step_rate_grid(dim, f->h, nu, psi);
-    PetscInt                    su[3], se[3];
-    for (int a = 0; a < 3; ++a) {
-      su[a] = U.stride(a);
-      se[a] = E.stride(a);
-    }
-    ForEachOwnedOffset(f, U, E, [&](PetscInt pu, PetscInt pe) {
-      PetscReal speed[3] = {0, 0, 0}, emin = e[pe], emax = e[pe];
-      for (int a = 0; a < dim; ++a) {
-        speed[a] = PetscMax(PetscAbsReal(u[pu * dof + a]), PetscAbsReal(u[(pu + su[a]) * dof + a]));
-        for (int d = -1; d <= 1; d += 2) {
-          emin = PetscMin(emin, e[pe + d * se[a]]);
-          emax = PetscMax(emax, e[pe + d * se[a]]);
-        }
-        max_speed = PetscMax(max_speed, speed[a]);
-      }
-      const kernels::StepRates r = kernels::explicit_step_rates(grid, speed, emax / emin);
-      loc[0]                     = PetscMax(loc[0], r.conv);
-      loc[1]                     = PetscMax(loc[1], r.visc);
-    });
+    const kernels::StepRateGrid grid = kernels::step_rate_grid((int)f->dim, f->h, nu, psi);
+    if (f->dim == 2) MaxCellRates<2>(f, U, E, grid, loc, &max_speed);
+    else MaxCellRates<3>(f, U, E, grid, loc, &max_speed);
   }
   PetscCall(DMDAFieldRestore(f->eps_loc, &E));
   PetscCall(DMDAFieldRestore(f->u_loc, &U));

@@ -106,14 +106,27 @@ inline StepRateGrid step_rate_grid(int dim, const double h[3], double nu, double
   g.visc_gain = 2.0 * nu;
   return g;
 }
+// DIM = g.dim known to the compiler (loops over a grid's cells); the same numbers as the run-time form below.
+template <int DIM>
 inline StepRates explicit_step_rates(const StepRateGrid &g, const double speed[3], double eps_ratio)
 {
   StepRates r;
-  for (int a = 0; a < g.dim; ++a) r.conv += std::fabs(speed[a]) / g.h[a];
+  for (int a = 0; a < DIM; ++a) r.conv += std::fabs(speed[a]) / g.h[a];
   r.visc = g.inv_h2;
   r.conv *= g.conv_gain * eps_ratio;
   r.visc *= g.visc_gain * eps_ratio;
   return r;
+}
+inline StepRates explicit_step_rates(const StepRateGrid &g, const double speed[3], double eps_ratio)
+{
+  switch (g.dim) {
+  case 1:
+    return explicit_step_rates<1>(g, speed, eps_ratio);
+  case 2:
+    return explicit_step_rates<2>(g, speed, eps_ratio);
+  default:
+    return explicit_step_rates<3>(g, speed, eps_ratio);
+  }
 }
 inline StepRates explicit_step_rates(int dim, const double speed[3], const double h[3], double nu, double psi_max, double eps_ratio)
 {
