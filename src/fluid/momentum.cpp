@@ -165,29 +165,6 @@ void Predict(Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, co
   });
 }
 
-template <int DIM>
-void PredictWithLimiter(Fluid *f, PetscReal dt, const DMDAField &U, const DMDAField &E0, const DMDAField &E, const DMDAField &S,
-                        const DMDAField &B, const DMDAField &Un)
-{
-  switch (f->limiter) {
-  case kernels::Limiter::Upwind:
-    Predict<kernels::Limiter::Upwind, DIM>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::VanLeer:
-    Predict<kernels::Limiter::VanLeer, DIM>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Koren:
-    Predict<kernels::Limiter::Koren, DIM>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Minmod:
-    Predict<kernels::Limiter::Minmod, DIM>(f, dt, U, E0, E, S, B, Un);
-    break;
-  case kernels::Limiter::Superbee:
-    Predict<kernels::Limiter::Superbee, DIM>(f, dt, U, E0, E, S, B, Un);
-    break;
-  }
-}
-
 } // namespace
 
 PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
@@ -208,8 +185,11 @@ PetscErrorCode FluidPredictor(Fluid *f, PetscReal dt)
   // one velocity component per direction in U, S and Un (the predictor's offsets count on it)
   PetscCheck(U.dof == f->dim && S.dof == f->dim && Un.dof == f->dim, f->comm, PETSC_ERR_PLIB,
              "the velocity layouts do not hold %d components", (int)f->dim);
-  if (f->dim == 2) PredictWithLimiter<2>(f, dt, U, E0, E, S, B, Un);
-  else PredictWithLimiter<3>(f, dt, U, E0, E, S, B, Un);
+  kernels::with_limiter(f->limiter, [&](auto lc) {
+    constexpr kernels::Limiter L = decltype(lc)::value;
+    if (f->dim == 2) Predict<L, 2>(f, dt, U, E0, E, S, B, Un);
+    else Predict<L, 3>(f, dt, U, E0, E, S, B, Un);
+  });
   PetscCall(DMDAFieldRestore(f->u, &Un));
   PetscCall(DMDAFieldRestore(f->drag_loc, &B));
   PetscCall(DMDAFieldRestore(f->source_loc, &S));

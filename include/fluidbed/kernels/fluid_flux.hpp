@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace fluidbed::kernels {
@@ -25,23 +26,29 @@ inline double limiter_psi(double r)
   else return std::max(std::min(2.0 * r, 1.0), std::min(r, 2.0));
 }
 
-// The same with the limiter chosen at run time. Loops over many faces should dispatch once and call the template
-// (the results are the same bit for bit).
-inline double limiter_psi(Limiter l, double r)
+// Calls fn(std::integral_constant<Limiter, L>{}) for the limiter l chosen at run time: loops over many faces
+// dispatch once here and call the templates (the results are the same bit for bit).
+template <class Fn>
+inline decltype(auto) with_limiter(Limiter l, Fn &&fn)
 {
   switch (l) {
   case Limiter::Upwind:
-    return limiter_psi<Limiter::Upwind>(r);
+    return fn(std::integral_constant<Limiter, Limiter::Upwind>{});
   case Limiter::VanLeer:
-    return limiter_psi<Limiter::VanLeer>(r);
+    return fn(std::integral_constant<Limiter, Limiter::VanLeer>{});
   case Limiter::Koren:
-    return limiter_psi<Limiter::Koren>(r);
+    return fn(std::integral_constant<Limiter, Limiter::Koren>{});
   case Limiter::Minmod:
-    return limiter_psi<Limiter::Minmod>(r);
-  case Limiter::Superbee:
-    return limiter_psi<Limiter::Superbee>(r);
+    return fn(std::integral_constant<Limiter, Limiter::Minmod>{});
+  default:
+    return fn(std::integral_constant<Limiter, Limiter::Superbee>{});
   }
-  return 0.0;
+}
+
+// The same with the limiter chosen at run time.
+inline double limiter_psi(Limiter l, double r)
+{
+  return with_limiter(l, [r](auto lc) { return limiter_psi<decltype(lc)::value>(r); });
 }
 
 // Largest value of psi: the explicit convective limit of a limited scheme is CFL <= 1 / (1 + psi_max / 2).
