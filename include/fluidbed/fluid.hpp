@@ -72,6 +72,9 @@ PetscErrorCode FluidGetCellVelocity(Fluid *fluid, Vec *velocity); // computed fr
 PetscErrorCode FluidGetPressure(Fluid *fluid, Vec *p);
 // The pressure operator as last assembled (the set-up's until a solve reassembles it), borrowed: for tests.
 PetscErrorCode FluidGetPressureMatrix(Fluid *fluid, Mat *A);
+// The same operator's stencil form, which the solver multiplies by (-fluid_p_stencil_mult; NULL where it is off),
+// borrowed: for tests.
+PetscErrorCode FluidGetPressureStencilMatrix(Fluid *fluid, Mat *A);
 // The DMDAs of the cell fields above: dof 1 (eps, pressure) and dof dim (velocity, source).
 PetscErrorCode    FluidGetCellDMs(Fluid *fluid, DM *scalar, DM *vector);
 const FluidStats &FluidGetStats(const Fluid *fluid);

@@ -347,6 +347,13 @@ PetscErrorCode FluidGetPressureMatrix(Fluid *f, Mat *A)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidGetPressureStencilMatrix(Fluid *f, Mat *A)
+{
+  PetscFunctionBeginUser;
+  *A = f->op.A;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidGetCellDMs(Fluid *f, DM *scalar, DM *vector)
 {
   PetscFunctionBeginUser;

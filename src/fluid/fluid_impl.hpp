@@ -105,6 +105,18 @@ struct Fluid {
   // Found once by an assembly of tags; later assemblies write the values in place (the pattern never changes).
   std::vector<PetscInt> a_pos;
   PetscBool             a_direct = PETSC_FALSE;
+  // The operator's stencil form, which the Krylov method multiplies by instead of the assembled AIJ matrix where
+  // -fluid_p_stencil_mult is on (pressure_stencil.cpp; the preconditioner keeps A): the face coefficients c_f A_f / h_f
+  // and the diagonal of A's last assembly. face[a * N + p]: the lower a-face of the cell at offset p of the ghosted
+  // scalar layout (da_s, the layout of the assembly's eps and drag); diag: the owned rows in natural order within the
+  // rank. A is null where the stencil form is off.
+  struct StencilOperator {
+    Mat                    A = nullptr;
+    DMDAField              layout; // the ghosted layout of face (its array unused)
+    std::vector<PetscReal> face, diag;
+    Vec                    x_loc = nullptr; // x with its ghosts, on several ranks
+    PetscLogDouble         flops = 0;       // per product, counted as MatMult of the AIJ matrix counts them
+  } op;
 
   // -fluid_p_dump_*: the pressure systems of selected gas steps written for offline solver studies
   // (scripts/ksp_compare.py); pressure_dump.cpp. Off unless an interval or a list of steps is given.
@@ -194,8 +206,14 @@ PetscErrorCode FluidDivergence(Fluid *f, PetscReal dt, PetscReal *max_div);
 PetscErrorCode FluidPressureDestroy(Fluid *f);
 PetscErrorCode FluidSolverNames(Fluid *f, const char **ksp, const char **pc); // the pressure KSP and PC types
 // The face-coefficient operator of the projection for the current eps and drag, assembled into M (any DMDA matrix
-// of da_p): the matrix of the solve for the same dt (the drag's dt, 0 without drag). No side effects on f.
+// of da_p): the matrix of the solve for the same dt (the drag's dt, 0 without drag). When M is f->A it also keeps the
+// face coefficients and diagonals in f->op for the stencil form; no other side effects on f.
 PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt);
+
+// pressure_stencil.cpp: the stencil form of the pressure operator (Fluid::StencilOperator), a MATSHELL whose product is
+// bit for bit the assembled AIJ matrix's, and its release. Created where the grid has no periodic direction.
+PetscErrorCode FluidStencilOperatorCreate(Fluid *f);
+PetscErrorCode FluidStencilOperatorDestroy(Fluid *f);
 
 // pressure_dump.cpp
 PetscErrorCode FluidDumpSetFromOptions(Fluid *f);

@@ -40,8 +40,9 @@ inline PetscReal NetOutflow(const Fluid *f, const PetscReal *U, const PetscReal 
 
 // The operator's rows (eq. 2.21's projection: the face coefficients c_f A_f / h_f of docs/fluid.md): calls
 // row(stencil of the row, n, stencils of its columns, values), each owned row once and whole, the diagonal last.
+// keep: the face coefficients and the diagonals also go to f->op, the stencil form's (pressure_stencil.cpp).
 template <class Row>
-PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
+PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, bool keep, Row &&row)
 {
   DMDAField E, B;
 
@@ -52,7 +53,17 @@ PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
   // c_f A / h of every face between two cells of the rows this rank owns, computed once for the two rows that share
   // it: W[a * N + p] for the lower a-face of the cell at offset p
   const PetscInt N = E.m[0] * E.m[1] * E.m[2];
-  PetscReal     *W = FluidWork(f, (std::size_t)(f->dim * N));
+  PetscReal     *W, *D = nullptr;
+  if (keep) {
+    f->op.face.resize((std::size_t)(f->dim * N));
+    f->op.diag.resize((std::size_t)(f->xm[0] * f->xm[1] * f->xm[2]));
+    f->op.layout   = E;
+    f->op.layout.a = nullptr;
+    W              = f->op.face.data();
+    D              = f->op.diag.data();
+  } else {
+    W = FluidWork(f, (std::size_t)(f->dim * N));
+  }
   for (int a = 0; a < f->dim; ++a) {
     const PetscInt sa = E.stride(a);
     PetscReal     *Wa = W + a * N;
@@ -93,6 +104,7 @@ PetscErrorCode ForEachOperatorRow(Fluid *f, PetscReal dt, Row &&row)
         }
         col[n]   = rs;
         val[n++] = diag;
+        if (D) *D++ = diag;
         PetscCall(row(rs, n, col, val));
       }
     }
@@ -146,9 +158,10 @@ PetscErrorCode AssembleThroughStencils(Fluid *f, Mat M, PetscReal dt)
   // starts from zeros and every assembly inserts the same entries of every row.
   PetscCall(PetscObjectTypeCompare((PetscObject)M, MATHYPRESTRUCT, &structured));
   if (!structured) PetscCall(MatZeroEntries(M));
-  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *val) {
-    return MatSetValuesStencil(M, 1, &r, n, col, val, INSERT_VALUES); // each row once, whole
-  }));
+  PetscCall(
+    ForEachOperatorRow(f, dt, M == f->A && f->op.A, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *val) {
+      return MatSetValuesStencil(M, 1, &r, n, col, val, INSERT_VALUES); // each row once, whole
+    }));
   PetscCall(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
@@ -166,7 +179,7 @@ PetscErrorCode FindOperatorPositions(Fluid *f, PetscReal dt)
   PetscCall(PetscObjectTypeCompareAny((PetscObject)f->A, &aij, MATSEQAIJ, MATMPIAIJ, ""));
   if (!aij) PetscFunctionReturn(0);
   PetscCall(MatZeroEntries(f->A));
-  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *) {
+  PetscCall(ForEachOperatorRow(f, dt, false, [&](const MatStencil &r, PetscInt n, const MatStencil *col, const PetscScalar *) {
     PetscScalar tag[7];
     for (PetscInt e = 0; e < n; ++e) tag[e] = (PetscScalar)(++count);
     return MatSetValuesStencil(f->A, 1, &r, n, col, tag, INSERT_VALUES);
@@ -201,7 +214,7 @@ PetscErrorCode FluidAssembleOperator(Fluid *f, Mat M, PetscReal dt)
   AIJValues v;
   PetscInt  e = 0;
   PetscCall(AIJValuesGet(M, &v));
-  PetscCall(ForEachOperatorRow(f, dt, [&](const MatStencil &, PetscInt n, const MatStencil *, const PetscScalar *val) {
+  PetscCall(ForEachOperatorRow(f, dt, f->op.A != nullptr, [&](const MatStencil &, PetscInt n, const MatStencil *, const PetscScalar *val) {
     for (PetscInt k = 0; k < n; ++k, ++e) {
       const PetscInt q                  = f->a_pos[(std::size_t)e];
       (q >= 0 ? v.ad[q] : v.ao[-1 - q]) = val[k];
@@ -219,6 +232,10 @@ PetscErrorCode AssembleMatrix(Fluid *f, PetscReal dt)
   PetscFunctionBeginUser;
   f->dt_last = dt;
   PetscCall(FluidAssembleOperator(f, f->A, dt));
+  if (f->op.A) { // its coefficients changed with A's values: its state advances with A's
+    PetscCall(MatAssemblyBegin(f->op.A, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(f->op.A, MAT_FINAL_ASSEMBLY));
+  }
   f->assemblies++;
   PetscFunctionReturn(0);
 }
@@ -429,11 +446,15 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
   PetscCall(PetscObjectSetName((PetscObject)f->A, "pressure_matrix"));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(MatSetOption(f->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+  PetscCall(FluidStencilOperatorCreate(f)); // before the first assembly, which fills its coefficients
   PetscCall(AssembleMatrix(f, 0.0));
   if (!f->has_dirichlet) {
     PetscCall(MatNullSpaceCreate(f->comm, PETSC_TRUE, 0, NULL, &f->nullspace));
-    PetscCall(MatSetNullSpace(f->A, f->nullspace));
-    PetscCall(MatSetTransposeNullSpace(f->A, f->nullspace));
+    for (Mat M : {f->A, f->op.A}) {
+      if (!M) continue;
+      PetscCall(MatSetNullSpace(M, f->nullspace));
+      PetscCall(MatSetTransposeNullSpace(M, f->nullspace));
+    }
   }
   PetscCall(KSPCreate(f->comm, &f->ksp));
   PetscCall(KSPSetOptionsPrefix(f->ksp, "fluid_p_"));
@@ -448,10 +469,23 @@ PetscErrorCode FluidPressureCreate(Fluid *f)
     PetscCall(PCHYPRESetType(pc, "boomeramg"));
   }
   PetscCall(KSPSetTolerances(f->ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, 10000));
-  PetscCall(KSPSetOperators(f->ksp, f->A, f->A));
+  PetscCall(KSPSetOperators(f->ksp, f->op.A ? f->op.A : f->A, f->A));
   PetscCall(KSPSetFromOptions(f->ksp));
   PetscCall(SplitBoomerAMGSmoother(f));
   PetscCall(AdaptPreconditioner(f));
+  {
+    // The stencil form serves the preconditioners that only multiply by the solver's operator (theirs is the
+    // assembled one). Others take more of it: PCMG's Galerkin coarse operators are products with it (MatPtAP),
+    // field split takes its blocks, a composite hands it to its parts. They, and any other not named here, get the
+    // assembled matrix.
+    PetscBool multiplies_only;
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &multiplies_only, PCFASTPOISSON, PCHYPRE, PCGAMG, PCJACOBI, PCPBJACOBI, PCBJACOBI,
+                                        PCSOR, PCICC, PCILU, PCNONE, PCASM, ""));
+    if (!multiplies_only && f->op.A) {
+      PetscCall(FluidStencilOperatorDestroy(f));
+      PetscCall(KSPSetOperators(f->ksp, f->A, f->A));
+    }
+  }
   {
     PetscBool is_fp;
     PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFASTPOISSON, &is_fp));
@@ -508,6 +542,7 @@ PetscErrorCode FluidPressureDestroy(Fluid *f)
   PetscCall(FluidDumpDestroy(f));
   PetscCall(KSPDestroy(&f->ksp));
   PetscCall(MatNullSpaceDestroy(&f->nullspace));
+  PetscCall(FluidStencilOperatorDestroy(f));
   PetscCall(MatDestroy(&f->A));
   PetscFunctionReturn(0);
 }
