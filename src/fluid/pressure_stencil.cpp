@@ -62,7 +62,6 @@ void StencilProduct(const Fluid *f, const PetscScalar *X, const DMDAField &XL, P
 PetscErrorCode StencilMult(Mat A, Vec x, Vec y)
 {
   Fluid             *f;
-  PetscMPIInt        size;
   const PetscScalar *xa;
   PetscScalar       *ya;
   DMDAField          XL;
@@ -70,8 +69,7 @@ PetscErrorCode StencilMult(Mat A, Vec x, Vec y)
 
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &f));
-  PetscCallMPI(MPI_Comm_size(f->comm, &size));
-  if (size > 1) { // the neighbours on other ranks
+  if (f->op.x_loc) { // several ranks: the neighbours on other ranks
     PetscCall(DMGlobalToLocalBegin(f->da_p, x, INSERT_VALUES, f->op.x_loc));
     PetscCall(DMGlobalToLocalEnd(f->da_p, x, INSERT_VALUES, f->op.x_loc));
     xv = f->op.x_loc;
