@@ -5,9 +5,11 @@ seed's inputs' rho_p eps_sb f_neg |v_neg| A_d (computed here by hand: 2500 x 0.5
 kg/s); the single jet at 3 U_mf takes its height from the expanded volume (the seed's 88.5 mm) and the double jet from
 the cut-off (Table 3.5); the 3 U_mf single jet's snapshots in the averaging window (two of three) give the expanded
 volume per snapshot, the share of cells with void fraction below 1 times the domain's height, 62.5 and 80 mm: 71.25 mm
-on average, 8.75 mm apart, and eq. 3.7's bulk fraction with it (the same mass over that height); the nine-jet 2D bed is set beside chapter 4's height, bulk fraction and jet height; a run of another scene or one without analysis.h5 ends with exit status 2 and a message."""
+on average, 8.75 mm apart, and eq. 3.7's bulk fraction with it (the same mass over that height); the nine-jet 2D bed is set beside chapter 4's height, bulk fraction and jet height; a run of another scene or one without analysis.h5 ends with exit status 2 and a message. scripts/plot_seed_550.py
+draws the 550 um beds of that JSON at a glance and tables them in the seed's order, with the same differences."""
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -80,6 +82,29 @@ rows = {r["quantity"]: r for r in json.load(open("tables.json"))[0]["rows"]}
 c = rows["solid circulation, eq. 3.6 (g/s)"]
 t.check(abs(c["seed_simulation"] - 1e3 * circ) < 1e-9 and abs(c["ours"] - 1e3 * circ) < 1e-9,
         "eq. 3.6 from the seed's Table 3.6: %.4f g/s (by hand %.4f)" % (c["seed_simulation"], 1e3 * circ))
+
+# scripts/plot_seed_550.py, the beds at a glance from that JSON: the seed's order (1.6 U_mf before 3 U_mf), each
+# height by the seed's method with its difference, the downward flux f_down x v_down (0.549 x 32.8 mm/s = 18.0 mm/s
+# for ours and the seed's alike), the per-snapshot height where the JSON has it; a figure is written; a JSON that is
+# not seed_tables.py's ends with exit status 2
+SUMMARY = os.path.join(t.SRC, "scripts", "plot_seed_550.py")
+p = subprocess.run([sys.executable, SUMMARY, "tables.json", "-o", "summary.png", "--table", "summary.md"], capture_output=True, text=True)
+print(p.stdout, p.stderr)
+t.check(p.returncode == 0 and os.path.getsize("summary.png") > 10000, "the summary figure was drawn (exit %d)" % p.returncode)
+lines = [line for line in open("summary.md") if line.startswith("| ") and "U_mf" in line]
+t.check([line.split("|")[1].strip() for line in lines] == ["1 jet, 1.6 U_mf", "2 jets, 1.6 U_mf", "1 jet, 3 U_mf"],
+        "the beds in the seed's order: %s" % [line.split("|")[1] for line in lines])
+t.check("66.3 / 60.30 / 55.40 (+10%)" in lines[0] and "58.2 / 58.22 / 50.75 (+0%)" in lines[1],
+        "the cut-off heights at 1.6 U_mf against the seed's simulation and experiment")
+snap = re.search(r"per snapshot ([0-9.]+) \((-?[0-9]+)%\)", lines[2])
+t.check("88.5 / 88.50 / - (+0%)" in lines[2] and snap and abs(float(snap.group(1)) - 71.25) <= 0.05 and snap.group(2) == "-19",
+        "the 3 U_mf height by the expanded volume, and per snapshot 71.25 mm (-19.5%%): %s" % lines[2])
+t.check("| 18.0 / 18.0 (+0%) |" in lines[0], "the downward flux 0.549 x 32.8 mm/s = 18.0 mm/s")
+t.check("| %.1f / %.1f (+0%%) |" % (1e3 * circ, 1e3 * circ) in lines[0], "the circulation of eq. 3.6, %.1f g/s" % (1e3 * circ))
+json.dump({"rows": []}, open("not_tables.json", "w"))
+p = subprocess.run([sys.executable, SUMMARY, "not_tables.json"], capture_output=True, text=True)
+t.check(p.returncode == 2 and "plot_seed_550.py:" in p.stderr and "Traceback" not in p.stderr,
+        "a JSON that is not seed_tables.py's: exit %d, %s" % (p.returncode, p.stderr.strip()))
 
 # the nine-jet 2D bed against chapter 4: a bed 10% above the seed's 150 mm, its bulk fraction, the jets' mean height
 fake_run("ninejet", "ninejet_2d", dict(samples=3381, window_start=5.0, window_end=8.38, expanded_bed_height_cutoff=0.165,
