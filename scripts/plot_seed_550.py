@@ -13,28 +13,17 @@ the same numbers as a markdown table with our difference from the seed's simulat
         --table docs/validation/spouted_550_summary.md
 
 A file that is not a seed_tables.py JSON of a 550 um bed ends it with a message and exit status 2."""
-import argparse
 import json
-import os
-import sys
 
-import matplotlib
+from fluidbed_tools import plot as fp
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import seed_tables  # noqa: E402  (beside this script: the seed's values)
+import seed_tables  # beside this script: the seed's values
 
 # the cases in the seed's order: jets, then superficial velocity
 ORDER = ["spouted_550_jet1_u160", "spouted_550_jet2_u160", "spouted_550_jet3_u160",
          "spouted_550_jet1_u301", "spouted_550_jet2_u301", "spouted_550_jet3_u301"]
-
-
-def die(message):
-    print("plot_seed_550.py: " + message, file=sys.stderr)
-    sys.exit(2)
 
 
 def label(scene):
@@ -48,14 +37,14 @@ def row(rows, start, path):
     for r in rows:
         if r["quantity"].startswith(start):
             return r
-    die("%s has no row '%s...': not a seed_tables.py JSON of a 550 um bed" % (path, start))
+    fp.die("%s has no row '%s...': not a seed_tables.py JSON of a 550 um bed" % (path, start))
 
 
 def case(entry, path):
     """One bed's values: ours and the seed's, from one run's entry of a seed_tables.py JSON."""
     scene = entry.get("scene")
     if scene not in seed_tables.SEED:
-        die("%s: scene %s is not one of the seed's 550 um beds (%s)" % (path, scene, ", ".join(seed_tables.SEED)))
+        fp.die("%s: scene %s is not one of the seed's 550 um beds (%s)" % (path, scene, ", ".join(seed_tables.SEED)))
     s = seed_tables.SEED[scene]
     rows = entry["rows"]
     method = "expanded bed height, %s" % ("cut-off method" if s["method"] == "cutoff" else "expanded-volume method")
@@ -79,13 +68,13 @@ def read(paths):
         try:
             data = json.load(open(path))
         except (OSError, ValueError) as e:
-            die("%s: %s" % (path, e))
+            fp.die("%s: %s" % (path, e))
         if not isinstance(data, list):
-            die("%s: not a seed_tables.py JSON (a list of runs)" % path)
+            fp.die("%s: not a seed_tables.py JSON (a list of runs)" % path)
         for entry in data:
             c = case(entry, path)
             if c["scene"] in cases:
-                die("%s: %s given twice (also in an earlier file)" % (path, c["scene"]))
+                fp.die("%s: %s given twice (also in an earlier file)" % (path, c["scene"]))
             cases[c["scene"]] = c
     return [cases[s] for s in ORDER if s in cases]
 
@@ -118,18 +107,19 @@ def plot(cases, out):
               ("flux", "downward flux, fraction down x speed (mm/s)"),
               ("circ", "solid circulation, eq. 3.6 (g/s)"))
     for ax, (key, title) in zip(axes, panels):
+        # bars side by side: ours, the seed's simulation and (heights only) its experiment
         w = 0.27 if key == "height" else 0.38
+        x_ours, x_seed = (pos - w, pos) if key == "height" else (pos - w / 2, pos + w / 2)
         ours = np.array([c[key] for c in cases])
         seed = np.array([c[key + "_seed"] for c in cases])
-        ax.bar(pos - w / (1 if key == "height" else 2), ours, width=w, color="tab:blue", label="fluidbed")
-        ax.bar(pos + (0 if key == "height" else w / 2), seed, width=w, color="lightgrey", edgecolor="k", hatch="//",
-               label="seed, simulation")
+        ax.bar(x_ours, ours, width=w, color="tab:blue", label="fluidbed")
+        ax.bar(x_seed, seed, width=w, color="lightgrey", edgecolor="k", hatch="//", label="seed, simulation")
         if key == "height":
             exp = np.array([c["height_exp"] if c["height_exp"] else np.nan for c in cases])
             ax.bar(pos + w, exp, width=w, color="k", label="seed, experiment")
-            snap = [(p, c["height_snap"]) for p, c in zip(pos, cases) if c["height_snap"] is not None]
+            snap = [(x, c["height_snap"]) for x, c in zip(x_ours, cases) if c["height_snap"] is not None]
             if snap:
-                ax.plot([p - w for p, _ in snap], [h for _, h in snap], "D", color="tab:orange", markeredgecolor="k",
+                ax.plot([x for x, _ in snap], [h for _, h in snap], "D", color="tab:orange", markeredgecolor="k",
                         label="fluidbed, expanded volume per snapshot")
         ax.set_title(title, fontsize=9)
         ax.set_xticks(pos)
@@ -148,14 +138,14 @@ def windows(cases):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = fp.parser(__doc__, single_run=False)
     ap.add_argument("tables", nargs="+", help="JSON files of scripts/seed_tables.py --json")
     ap.add_argument("-o", "--output", help="PNG file to write")
     ap.add_argument("--table", help="markdown file to write (printed too)")
     args = ap.parse_args()
     cases = read(args.tables)
     if not cases:
-        die("no 550 um bed in the files given")
+        fp.die("no 550 um bed in the files given")
     text = table(cases)
     print(text, end="")
     if args.table:

@@ -103,7 +103,7 @@ t.check("| 18.0 / 18.0 (+0%) |" in lines[0], "the downward flux 0.549 x 32.8 mm/
 t.check("| %.1f / %.1f (+0%%) |" % (1e3 * circ, 1e3 * circ) in lines[0], "the circulation of eq. 3.6, %.1f g/s" % (1e3 * circ))
 json.dump({"rows": []}, open("not_tables.json", "w"))
 p = subprocess.run([sys.executable, SUMMARY, "not_tables.json"], capture_output=True, text=True)
-t.check(p.returncode == 2 and "plot_seed_550.py:" in p.stderr and "Traceback" not in p.stderr,
+t.check(p.returncode == 2 and "error: not_tables.json" in p.stderr and "Traceback" not in p.stderr,
         "a JSON that is not seed_tables.py's: exit %d, %s" % (p.returncode, p.stderr.strip()))
 
 # the nine-jet 2D bed against chapter 4: a bed 10% above the seed's 150 mm, its bulk fraction, the jets' mean height
