@@ -48,7 +48,11 @@ PetscErrorCode UnusedOptionsCollect(Simulation *sim, UnusedOptions *list)
   for (PetscInt i = 0; i < n; ++i) {
     const std::string name = names[i] ? names[i] : "";
     if (name.empty() || ReadByPetscLate().count(name)) continue;
-    list->push_back({"-" + name, Value(values[i]), "was not used (misspelled, or no effect in this scene)"});
+    // A continued run keeps its first command's insertion options; the particles come from the checkpoint.
+    const bool insertion = name.compare(0, 7, "insert_") == 0;
+    list->push_back({"-" + name, Value(values[i]),
+                     sim->output.restart[0] && insertion ? "has no effect in a restart (the particles come from -restart)"
+                                                         : "was not used (misspelled, or no effect in this scene)"});
   }
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
 

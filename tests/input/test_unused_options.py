@@ -1,6 +1,7 @@
 """Options without effect are listed in a warning line each, and in summary.json ("unused_options"): at the end of a
 run a misspelled option, 3D options in a 2D run, a gas option in a run without gas; at start-up, with the scene
-model's warnings, -average_start at or after -t_final (printed once). A normal run, PETSc's own options that it reads
+model's warnings, -average_start at or after -t_final (printed once); in a restart the insertion options, as without
+effect there. A normal run, PETSc's own options that it reads
 in PetscFinalize (-options_left) and -help give no such warning."""
 import os
 
@@ -58,3 +59,15 @@ t.check([x.split()[2] for x in warnings(p)] == ["-dem_kn_typo"] and "Option left
 # -help prints the options and runs the scene: no warning either.
 out, p = t.run(settle, args=short + ["-help"], outdir="unused_help")
 t.check(not warnings(p) and "-dem_kn <" in p.stdout, "-help: %d warnings" % len(warnings(p)))
+
+# A run continued from a checkpoint keeps its first command's insertion options (scripts/validate.sh continues that
+# way): they are listed as having no effect in a restart, not as misspelled; a misspelled option still is.
+first, _ = t.run(settle, args=short + ["-checkpoint_interval", 1], outdir="unused_first")
+ck = os.path.join(os.path.abspath(first), "checkpoint.h5")
+out, p = t.run(settle, args=["-max_steps", 4, "-restart", ck, "-dem_kn_typo", 5], outdir="unused_restart")
+w = warnings(p)
+inserted = [x for x in w if x.split()[2].startswith("-insert_")]
+t.check(len(inserted) == 5 and all("has no effect in a restart (the particles come from -restart)" in x for x in inserted),
+        "restart: the scene's five -insert_ options listed as without effect in a restart: %s" % inserted)
+t.check([x for x in w if x not in inserted] == ["WARNING: option -dem_kn_typo 5 was not used (misspelled, or no effect in this scene)"],
+        "restart: the misspelled option still listed as not used: %s" % w)
