@@ -8,7 +8,10 @@
 // periodic); along y, which may end at the pressure outlet, a Thomas solve per mode finishes the inverse (or, when y
 // is periodic, a transform as well). In parallel the data move between two pencil layouts: T, split along y only,
 // holds whole x and z lines for the transforms; S, split along x only, holds whole y lines for the solve. PETSc
-// VecScatters make the moves (fluid layout -> T -> S and back).
+// VecScatters make the moves (fluid layout -> T -> S and back). Where the grid is split along x only (fluidbed's
+// default layout for beds, src/grids/grids.cpp) nothing moves: y and z are transformed on each rank's own block and
+// the lines along x, cut by the ranks, are solved by the partition method (kernels::separator_factor), which costs one
+// MPI_Allgather of three numbers per line instead of four transposes of the grid.
 #include "fluid_impl.hpp"
 #include "fluidbed/kernels/separable_poisson.hpp"
 
@@ -48,6 +51,16 @@ struct FastPoisson {
   std::vector<double> inv;                 // S layout: Thomas factors per mode line (y solved) or 1 / eigenvalue (y transformed)
   PetscReal           scale = 1, coef = 1; // 1 / (transforms' normalisation), the mean face coefficient
   PetscInt            applies = 0;
+  bool                built   = false;
+  // The partitioned solve (the grid split along x only, more than one rank): the parts' first x cells (cut[P] = n[0]);
+  // this rank's piece's cells; per line (y, z mode) the separators' factors (P - 1 values each, sep_cpl's last unused);
+  // the scaled right-hand side and one plane's pieces solved alone, lines interleaved (x[i ny + j]) as inv is; the three
+  // numbers per line this rank sends, all ranks' numbers; the separators' values.
+  PetscBool           partitioned_opt = PETSC_TRUE; // -pc_fastpoisson_partitioned
+  bool                partitioned     = false;
+  std::vector<int>    cut;
+  PetscInt            piece = 0;
+  std::vector<double> sep_inv, sep_cpl, rhs, lines_alone, send, recv, sep;
   // Jacobi steps before and after the inverse (symmetric multiplicative), for operators whose face coefficients jump:
   // -fluid_p_pc_fastpoisson_jacobi forces them on or off; unset, each set-up turns them on where the contrast (the mean
   // coefficient over the smallest cell's, diag A / diag L) exceeds jacobi_contrast. dinv = w / diag A, t and u work
@@ -98,6 +111,66 @@ fftw_plan PlanAxis(int a, const PetscInt m[3], double *buf, fftw_r2r_kind kind)
   return fftw_plan_guru_r2r(1, &dim, nl, loops, buf, buf, &kind, FFTW_ESTIMATE);
 }
 
+// The partitioned layout: each rank's own block of the grid (x in [cut[rank], cut[rank + 1]), all y and z, x fastest),
+// y and z transformed in place, the lines along x solved by the partition method; per line the piece's Thomas factors
+// and the separators' system, factored once.
+PetscErrorCode FastPoissonBuildPartitioned(PC pc, FastPoisson *fp, const PetscInt *lx, PetscMPIInt rank)
+{
+  const PetscMPIInt P = fp->size;
+
+  PetscFunctionBeginUser;
+  fp->partitioned = true;
+  fp->cut.assign((size_t)P + 1, 0);
+  for (PetscMPIInt r = 0; r < P; ++r) fp->cut[(size_t)r + 1] = fp->cut[(size_t)r] + (int)lx[r];
+  PetscInt *ms = fp->ms;
+  ms[0] = lx[rank], ms[1] = fp->n[1], ms[2] = fp->n[2];
+  for (int a = 0; a < 3; ++a) fp->mt[a] = ms[a];
+  const PetscInt nloc = ms[0] * ms[1] * ms[2], lines = ms[1] * ms[2];
+  fp->buf_t = fp->buf_s = fftw_alloc_real((size_t)nloc);
+
+  double norm = 1;
+  for (int a = 1; a < fp->dim; ++a) {
+    fp->transformed[a] = true;
+    const int na       = (int)fp->n[a];
+    if (na <= kDenseCells) {
+      fp->modes[a].resize((size_t)(na * na));
+      for (int j = 0; j < na; ++j)
+        for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
+      continue;
+    }
+    fp->fwd[a] = PlanAxis(a, ms, fp->buf_t, ForwardKind(fp->bc[a]));
+    fp->bwd[a] = PlanAxis(a, ms, fp->buf_t, BackwardKind(fp->bc[a]));
+    PetscCheck(fp->fwd[a] && fp->bwd[a], PetscObjectComm((PetscObject)pc), PETSC_ERR_LIB,
+               "FFTW could not plan the transforms along axis %d", a);
+    norm *= kernels::line_transform_scale(fp->bc[a], na);
+  }
+  fp->scale = 1.0 / norm;
+
+  const int *cut = fp->cut.data(), n0 = (int)fp->n[0];
+  const int  j0 = kernels::piece_begin(cut, rank), j1 = kernels::piece_end(cut, P, rank);
+  fp->piece = j1 - j0;
+  fp->inv.assign((size_t)(lines * fp->piece), 0.0);
+  fp->sep_inv.assign((size_t)(lines * (P - 1)), 0.0);
+  fp->sep_cpl.assign((size_t)(lines * (P - 1)), 0.0);
+  std::vector<double> scratch(2 * (size_t)n0), col((size_t)fp->piece);
+  for (PetscInt k = 0; k < ms[2]; ++k)
+    for (PetscInt j = 0; j < ms[1]; ++j) {
+      const PetscInt q   = k * ms[1] + j;
+      double         lam = fp->w[1] * kernels::line_eigenvalue(fp->bc[1], (int)fp->n[1], (int)j);
+      if (fp->dim == 3) lam += fp->w[2] * kernels::line_eigenvalue(fp->bc[2], (int)fp->n[2], (int)k);
+      kernels::tridiagonal_piece_factor(fp->bc[0], n0, j0, j1, fp->w[0], lam, col.data()); // interleaved by line, per z plane
+      for (PetscInt i = 0; i < fp->piece; ++i) fp->inv[(size_t)((k * fp->piece + i) * ms[1] + j)] = col[(size_t)i];
+      kernels::separator_factor(fp->bc[0], n0, P, cut, fp->w[0], lam, fp->sep_inv.data() + q * (P - 1), fp->sep_cpl.data() + q * (P - 1),
+                                scratch.data());
+    }
+  fp->rhs.assign((size_t)nloc, 0.0);
+  fp->lines_alone.assign((size_t)(fp->piece * ms[1]), 0.0);
+  fp->send.assign((size_t)(3 * lines), 0.0);
+  fp->recv.assign((size_t)(3 * lines * P), 0.0);
+  fp->sep.assign((size_t)P, 0.0);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
 {
   MPI_Comm    comm;
@@ -108,6 +181,19 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
   PetscCallMPI(MPI_Comm_size(comm, &fp->size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   const PetscMPIInt P = fp->size;
+  if (P > 1 && fp->partitioned_opt) {
+    PetscInt        pm, pn, pp;
+    const PetscInt *lx;
+    PetscCall(DMDAGetInfo(fp->da, NULL, NULL, NULL, NULL, &pm, &pn, &pp, NULL, NULL, NULL, NULL, NULL, NULL));
+    PetscCall(DMDAGetOwnershipRanges(fp->da, &lx, NULL, NULL));
+    bool fits = pm == P && pn == 1 && pp == 1 && fp->bc[0] != LineBC::Periodic;
+    for (PetscMPIInt r = 0; fits && r < P - 1; ++r) fits = lx[r] >= 2; // each part a separator and a piece of at least one cell
+    if (fits) {
+      PetscCall(FastPoissonBuildPartitioned(pc, fp, lx, rank));
+      fp->built = true;
+      PetscFunctionReturn(0);
+    }
+  }
   PetscCheck(FastPoissonPencilsFit(fp->n, P), comm, PETSC_ERR_SUP,
              "-fluid_p_pc_type fastpoisson: the pencils need at least as many cells as ranks along x and y (%d x %d cells, %d ranks)",
              (int)fp->n[0], (int)fp->n[1], (int)P);
@@ -163,6 +249,7 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
       for (PetscInt j = 0; j < ms[1]; ++j) fp->inv[(size_t)((k * ms[1] + j) * ms[0] + i)] = line[(size_t)j];
     }
 
+  fp->built = true;
   if (P == 1) PetscFunctionReturn(0);
   // fluid -> T: each T cell's place in the fluid's global vector (natural index through the DMDA's AO)
   {
@@ -326,7 +413,7 @@ PetscErrorCode PCSetUp_FastPoisson(PC pc)
   PetscFunctionBeginUser;
   PetscCheck(fp->grid_set, PetscObjectComm((PetscObject)pc), PETSC_ERR_ORDER,
              "-fluid_p_pc_type fastpoisson: the pressure grid was not given (PCFastPoissonSetGrid)");
-  if (!fp->vt) PetscCall(FastPoissonBuild(pc, fp));
+  if (!fp->built) PetscCall(FastPoissonBuild(pc, fp));
   PetscCall(MeanCoefficient(pc, fp));
   PetscCall(Contrast(pc, fp));
   fp->jacobi = (PetscBool)(fp->jacobi_mode == 1 || (fp->jacobi_mode == -1 && fp->contrast > fp->jacobi_contrast));
@@ -343,12 +430,90 @@ PetscErrorCode PCSetUp_FastPoisson(PC pc)
   PetscFunctionReturn(0);
 }
 
+// FastPoissonInverse on the partitioned layout: y and z transformed on the rank's block; then per z plane the block is
+// turned so that the lines along x interleave (x[i ny + j], j the y mode), as the Thomas sweeps want them (one line's
+// sweep is a chain of dependent operations; many lines side by side fill the vector lanes); the pieces solved alone,
+// the three numbers of every rank's piece per line gathered, the separators solved, the pieces solved again with them.
+PetscErrorCode FastPoissonInversePartitioned(PC pc, FastPoisson *fp, Vec r, Vec y)
+{
+  const PetscInt    *ms = fp->ms, xm = ms[0], ny = ms[1], nz = ms[2], lines = ny * nz, piece = fp->piece, plane = xm * ny;
+  const PetscMPIInt  P = fp->size;
+  PetscMPIInt        rank;
+  const PetscScalar *a;
+  PetscScalar       *b;
+  const double       s = fp->scale / fp->coef, w = fp->w[0];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)pc), &rank));
+  const bool last = rank == P - 1;
+  PetscCall(VecGetArrayRead(r, &a));
+  PetscCall(PetscArraycpy(fp->buf_t, a, xm * lines));
+  PetscCall(VecRestoreArrayRead(r, &a));
+  PetscCall(PetscLogEventBegin(ev_transform, pc, 0, 0, 0));
+  TransformAxis(fp, 1, true, ms, fp->buf_t);
+  if (fp->dim == 3) TransformAxis(fp, 2, true, ms, fp->buf_t);
+  PetscCall(PetscLogEventEnd(ev_transform, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_solve, pc, 0, 0, 0));
+  for (PetscInt k = 0; k < nz; ++k) {
+    const double *x = fp->buf_t + k * plane;
+    double       *f = fp->rhs.data() + k * plane, *g = fp->lines_alone.data();
+    for (PetscInt j = 0; j < ny; ++j)
+      for (PetscInt i = 0; i < xm; ++i) f[i * ny + j] = s * x[j * xm + i];
+    PetscCall(PetscArraycpy(g, f, piece * ny));
+    kernels::tridiagonal_solve_lines((int)piece, (int)ny, w, 1.0, fp->inv.data() + k * piece * ny, g);
+    for (PetscInt j = 0; j < ny; ++j) {
+      double *out = fp->send.data() + 3 * (k * ny + j);
+      out[0]      = g[j];
+      out[1]      = g[(piece - 1) * ny + j];
+      out[2]      = last ? 0.0 : f[piece * ny + j]; // the separator's right-hand side
+    }
+  }
+  PetscCall(PetscLogEventEnd(ev_solve, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
+  PetscCallMPI(MPI_Allgather(fp->send.data(), (PetscMPIInt)(3 * lines), MPI_DOUBLE, fp->recv.data(), (PetscMPIInt)(3 * lines), MPI_DOUBLE,
+                             PetscObjectComm((PetscObject)pc)));
+  PetscCall(PetscLogEventEnd(ev_move, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_solve, pc, 0, 0, 0));
+  for (PetscInt k = 0; k < nz; ++k) {
+    double *f = fp->rhs.data() + k * plane, *x = fp->buf_t + k * plane;
+    for (PetscInt j = 0; j < ny; ++j) {
+      const PetscInt q = k * ny + j;
+      for (PetscMPIInt p = 0; p < P - 1; ++p) {
+        const double *mine = fp->recv.data() + (size_t)(p * 3 * lines + 3 * q), *next = mine + 3 * lines;
+        fp->sep[(size_t)p] = mine[2] + w * (mine[1] + next[0]);
+      }
+      kernels::separator_solve(P, fp->sep_inv.data() + q * (P - 1), fp->sep_cpl.data() + q * (P - 1), fp->sep.data());
+      if (rank > 0) f[j] += w * fp->sep[(size_t)rank - 1];
+      if (!last) {
+        f[(piece - 1) * ny + j] += w * fp->sep[(size_t)rank];
+        f[piece * ny + j] = fp->sep[(size_t)rank];
+      }
+    }
+    kernels::tridiagonal_solve_lines((int)piece, (int)ny, w, 1.0, fp->inv.data() + k * piece * ny, f);
+    for (PetscInt j = 0; j < ny; ++j)
+      for (PetscInt i = 0; i < xm; ++i) x[j * xm + i] = f[i * ny + j];
+  }
+  PetscCall(PetscLogEventEnd(ev_solve, pc, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_transform, pc, 0, 0, 0));
+  if (fp->dim == 3) TransformAxis(fp, 2, false, ms, fp->buf_t);
+  TransformAxis(fp, 1, false, ms, fp->buf_t);
+  PetscCall(PetscLogEventEnd(ev_transform, pc, 0, 0, 0));
+  PetscCall(VecGetArrayWrite(y, &b));
+  PetscCall(PetscArraycpy(b, fp->buf_t, xm * lines));
+  PetscCall(VecRestoreArrayWrite(y, &b));
+  PetscFunctionReturn(0);
+}
+
 // y = L^-1 r / c: the separable inverse with the mean face coefficient c.
 PetscErrorCode FastPoissonInverse(PC pc, Vec r, Vec y)
 {
   FastPoisson *fp = (FastPoisson *)pc->data;
 
   PetscFunctionBeginUser;
+  if (fp->partitioned) {
+    PetscCall(FastPoissonInversePartitioned(pc, fp, r, y));
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscLogEventBegin(ev_move, pc, 0, 0, 0));
   if (fp->size > 1) {
     PetscCall(VecScatterBegin(fp->to_t, r, fp->vt, INSERT_VALUES, SCATTER_FORWARD));
@@ -473,6 +638,8 @@ PetscErrorCode PCReset_FastPoisson(PC pc)
   if (fp->buf_s != fp->buf_t) fftw_free(fp->buf_s);
   fftw_free(fp->buf_t);
   fp->buf_t = fp->buf_s = nullptr;
+  for (bool &t : fp->transformed) t = false;
+  fp->built = fp->partitioned = false;
   PetscFunctionReturn(0);
 }
 
@@ -505,6 +672,11 @@ PetscErrorCode PCView_FastPoisson(PC pc, PetscViewer viewer)
                                    : fp->jacobi_mode == 0 ? "off"
                                                           : "where the contrast exceeds -fluid_p_pc_fastpoisson_jacobi_contrast",
                                    (int)fp->jacobi_setups, (int)fp->setups));
+  if (fp->size > 1)
+    PetscCall(PetscViewerASCIIPrintf(viewer,
+                                     fp->partitioned ? "  grid split along x over %d ranks: lines along x by the partition method\n"
+                                                     : "  %d ranks: transposes between two pencil layouts\n",
+                                     (int)fp->size));
   for (int a = 0; a < fp->dim; ++a)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  %c: %d cells, %s, %s\n", axes[a], (int)fp->n[a], LineBCName(fp->bc[a]),
                                      !fp->transformed[a]    ? "tridiagonal solve"
@@ -538,6 +710,11 @@ PetscErrorCode PCSetFromOptions_FastPoisson(PC pc, PetscOptionItems *PetscOption
                              "PCFastPoisson", fp->jacobi_weight, &fp->jacobi_weight, NULL));
   PetscCheck(fp->jacobi_weight > 0 && fp->jacobi_weight < 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_ARG_OUTOFRANGE,
              "-fluid_p_pc_fastpoisson_jacobi_weight = %g is out of range: allowed (0, 1)", (double)fp->jacobi_weight);
+  PetscCall(PetscOptionsBool("-pc_fastpoisson_partitioned",
+                             "Where the grid is split among the ranks along x only (the default layout of beds): transform y and z on "
+                             "each rank's block and solve the lines along x by the partition method, instead of moving the grid between "
+                             "two pencil layouts (the same inverse to round-off)",
+                             "PCFastPoisson", fp->partitioned_opt, &fp->partitioned_opt, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }

@@ -6,6 +6,7 @@
 #include "fluidbed/kernels/separable_poisson.hpp"
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -155,6 +156,40 @@ TEST(SeparablePoisson, TridiagonalSolveMatchesDenseElimination)
     }
 }
 
+namespace {
+
+// A pseudo-solve of the constant mode between two walls (w T x = r, lambda = 0): solve(x) maps r to x in place. The
+// unknown pin is held at 0, every equation holds for a zero-sum right-hand side (so the result is the solution up to
+// a constant), and the map r -> x is symmetric, as CG needs of a preconditioner.
+void CheckPinnedPseudoSolve(int n, double w, int pin, const std::function<void(std::vector<double> &)> &solve, const char *label)
+{
+  std::mt19937                           gen(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double>                    r(n);
+  double                                 mean = 0;
+  for (double &v : r) mean += (v = u(gen)) / n;
+  for (double &v : r) v -= mean;
+  std::vector<double> x = r;
+  solve(x);
+  EXPECT_EQ(x[pin], 0.0) << label;
+  for (int j = 0; j < n; ++j) {
+    double ax = 0;
+    for (int l = 0; l < n; ++l) ax += w * line_matrix_entry(LineBC::WallWall, n, j, l) * x[l];
+    EXPECT_NEAR(ax, r[j], 1e-12) << label << " row " << j;
+  }
+  std::vector<double> G(n * n); // symmetry of the map r -> x: e_a . G e_b = e_b . G e_a
+  for (int b = 0; b < n; ++b) {
+    std::vector<double> e(n, 0.0);
+    e[b] = 1;
+    solve(e);
+    for (int a = 0; a < n; ++a) G[a * n + b] = e[a];
+  }
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < a; ++b) EXPECT_NEAR(G[a * n + b], G[b * n + a], 1e-12) << label;
+}
+
+} // namespace
+
 // The constant mode between two walls (lambda = 0): the last unknown is pinned at 0 and the other n - 1 equations
 // hold, so a consistent right-hand side (zero sum) is solved up to a constant; the pseudo-solve is symmetric.
 TEST(SeparablePoisson, SingularLineIsPinnedAndSymmetric)
@@ -164,28 +199,74 @@ TEST(SeparablePoisson, SingularLineIsPinnedAndSymmetric)
   std::vector<double> inv(n);
   tridiagonal_factor(LineBC::WallWall, n, w, 0.0, inv.data());
   EXPECT_EQ(inv[n - 1], 0.0);
-  std::mt19937                           gen(3);
+  CheckPinnedPseudoSolve(
+    n, w, n - 1, [&](std::vector<double> &x) { tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), x.data()); }, "whole line");
+}
+
+namespace {
+
+// The partition method as fast_poisson.cpp runs it across ranks, here on one process: each part's piece solved alone,
+// the separators' system, each piece solved again with its separators' values. x holds the right-hand side on entry.
+void PartitionedSolve(LineBC bc, int n, const std::vector<int> &cut, double w, double lambda, std::vector<double> &x)
+{
+  const int           P = (int)cut.size() - 1;
+  std::vector<double> sinv(P), cpl(P), scratch(2 * n), s(P, 0.0), rhs = x;
+  separator_factor(bc, n, P, cut.data(), w, lambda, sinv.data(), cpl.data(), scratch.data());
+  std::vector<std::vector<double>> inv(P);
+  for (int r = 0; r < P; ++r) {
+    const int j0 = piece_begin(cut.data(), r), j1 = piece_end(cut.data(), P, r);
+    inv[r].resize(j1 - j0);
+    tridiagonal_piece_factor(bc, n, j0, j1, w, lambda, inv[r].data());
+    tridiagonal_solve_line(j1 - j0, w, inv[r].data(), x.data() + j0);
+  }
+  for (int r = 0; r < P - 1; ++r) s[r] = rhs[cut[r + 1] - 1] + w * (x[piece_end(cut.data(), P, r) - 1] + x[piece_begin(cut.data(), r + 1)]);
+  separator_solve(P, sinv.data(), cpl.data(), s.data());
+  for (int r = 0; r < P; ++r) {
+    const int j0 = piece_begin(cut.data(), r), j1 = piece_end(cut.data(), P, r);
+    for (int j = j0; j < j1; ++j) x[j] = rhs[j];
+    if (r > 0) x[j0] += w * s[r - 1];
+    if (r < P - 1) x[j1 - 1] += w * s[r];
+    tridiagonal_solve_line(j1 - j0, w, inv[r].data(), x.data() + j0);
+    if (r < P - 1) x[j1] = s[r];
+  }
+}
+
+} // namespace
+
+// The line split among 2-5 parts (the ranks of an x-split grid), pieces of one cell included: the partitioned solve
+// equals the whole line's Thomas solve to round-off, for walls, the outlet and several lambdas.
+TEST(SeparablePoisson, PartitionedSolveMatchesWholeLine)
+{
+  std::mt19937                           gen(11);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<double>                    r(n);
-  double                                 mean = 0;
-  for (double &v : r) mean += (v = u(gen)) / n;
-  for (double &v : r) v -= mean;
-  std::vector<double> x = r;
-  tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), x.data());
-  EXPECT_EQ(x[n - 1], 0.0);
-  for (int j = 0; j < n; ++j) {
-    double ax = 0;
-    for (int l = 0; l < n; ++l) ax += w * line_matrix_entry(LineBC::WallWall, n, j, l) * x[l];
-    EXPECT_NEAR(ax, r[j], 1e-12) << "row " << j;
+  const std::vector<std::vector<int>>    cuts = {{0, 10, 21},           {0, 2, 21},         {0, 19, 21}, {0, 7, 9, 15, 21},
+                                                 {0, 4, 8, 12, 16, 21}, {0, 2, 4, 6, 8, 21}};
+  for (LineBC bc : {LineBC::WallWall, LineBC::WallPressure})
+    for (double lambda : {0.05, 1.3, 7.0})
+      for (const auto &cut : cuts) {
+        const int           n = 21;
+        const double        w = 1.9;
+        std::vector<double> x(n), inv(n);
+        for (double &v : x) v = u(gen);
+        std::vector<double> ref = x;
+        tridiagonal_factor(bc, n, w, lambda, inv.data());
+        tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), ref.data());
+        PartitionedSolve(bc, n, cut, w, lambda, x);
+        for (int j = 0; j < n; ++j)
+          EXPECT_NEAR(x[j], ref[j], 1e-12 * (1 + std::fabs(ref[j]))) << "parts " << cut.size() - 1 << " lambda " << lambda << " cell " << j;
+      }
+}
+
+// The constant mode between two walls, split: the last separator is pinned at 0, every other equation holds for a
+// zero-sum right-hand side, so the result is the whole line's up to a constant; the map r -> x is symmetric.
+TEST(SeparablePoisson, PartitionedSingularLineIsPinnedAndSymmetric)
+{
+  const int    n = 13;
+  const double w = 0.8;
+  for (const std::vector<int> &cut : {std::vector<int>{0, 6, 13}, std::vector<int>{0, 3, 5, 9, 13}}) {
+    const int P = (int)cut.size() - 1;
+    CheckPinnedPseudoSolve(
+      n, w, cut[P - 1] - 1, [&](std::vector<double> &x) { PartitionedSolve(LineBC::WallWall, n, cut, w, 0.0, x); },
+      P == 2 ? "2 parts" : "4 parts");
   }
-  // symmetry of the map r -> x: e_a . G e_b = e_b . G e_a
-  std::vector<double> G(n * n);
-  for (int b = 0; b < n; ++b) {
-    std::vector<double> e(n, 0.0);
-    e[b] = 1;
-    tridiagonal_solve_lines(n, 1, w, 1.0, inv.data(), e.data());
-    for (int a = 0; a < n; ++a) G[a * n + b] = e[a];
-  }
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < a; ++b) EXPECT_NEAR(G[a * n + b], G[b * n + a], 1e-12);
 }

@@ -109,17 +109,26 @@ inline double line_transform_scale(LineBC bc, int n)
   return bc == LineBC::Periodic ? n : 2.0 * n;
 }
 
+// Thomas factors of the rows [j0, j1) of w T + lambda I (an axis of n cells with boundaries bc, not periodic) as a
+// block of their own, their couplings to rows outside it left to the right-hand side: inv[j - j0] = 1 / pivot j. When
+// the block is the whole axis and singular (lambda = 0 between two walls: the constant mode), pin_last sets the last
+// pivot's inverse to 0 instead.
+inline void tridiagonal_piece_factor(LineBC bc, int n, int j0, int j1, double w, double lambda, double *inv, bool pin_last = false)
+{
+  for (int j = j0; j < j1; ++j) {
+    const double b     = w * line_matrix_entry(bc, n, j, j) + lambda;
+    const double pivot = j == j0 ? b : b - w * w * inv[j - j0 - 1];
+    inv[j - j0]        = (pin_last && j == j1 - 1) ? 0.0 : 1.0 / pivot;
+  }
+}
+
 // Thomas factors of w T + lambda I along an axis of n cells with boundaries bc (not periodic): inv[j] = 1 / pivot j.
 // When the system is singular (lambda = 0 between two walls: the constant mode) the last pivot is zero and inv[n-1] is
 // set to 0, which pins the last unknown at 0 and solves the other n - 1 equations: the symmetric pseudo-solve of the
 // constant null space, which the Krylov method projects out.
 inline void tridiagonal_factor(LineBC bc, int n, double w, double lambda, double *inv)
 {
-  for (int j = 0; j < n; ++j) {
-    const double b     = w * line_matrix_entry(bc, n, j, j) + lambda;
-    const double pivot = j == 0 ? b : b - w * w * inv[j - 1];
-    inv[j]             = (j == n - 1 && bc == LineBC::WallWall && lambda == 0.0) ? 0.0 : 1.0 / pivot;
-  }
+  tridiagonal_piece_factor(bc, n, 0, n, w, lambda, inv, bc == LineBC::WallWall && lambda == 0.0);
 }
 
 // Solves (w T + lambda_i I) x_i = s r_i in place for m interleaved lines (x[j m + i], i < m) of n cells with their
@@ -137,6 +146,73 @@ inline void tridiagonal_solve_lines(int n, int m, double w, double s, const doub
     const double *xn = xj + m, *ij = inv + (long)j * m;
     for (int i = 0; i < m; ++i) xj[i] += w * ij[i] * xn[i];
   }
+}
+
+// Solves one contiguous block of m rows (tridiagonal_piece_factor) in place: (w T + lambda I)_block x = x.
+inline void tridiagonal_solve_line(int m, double w, const double *inv, double *x)
+{
+  x[0] *= inv[0];
+  for (int j = 1; j < m; ++j) x[j] = (x[j] + w * x[j - 1]) * inv[j];
+  for (int j = m - 2; j >= 0; --j) x[j] += w * inv[j] * x[j + 1];
+}
+
+// The partition method: the line solve of an axis whose cells are split among P ranks, without moving the line.
+// Part r holds the cells [cut[r], cut[r + 1]) (cut[0] = 0, cut[P] = n). Every part but the last keeps its last cell,
+// cut[r + 1] - 1, as a separator; the rest of the part, its piece [piece_begin, piece_end), is solved on its own with
+// its couplings to the separators moved to the right-hand side (each piece at least one cell: parts but the last
+// hold two or more). With the pieces eliminated, the separators' equations form a symmetric tridiagonal system of
+// P - 1 unknowns (the Schur complement) that each rank solves from three numbers per part: its piece's first and last
+// values solved alone and its separator's right-hand side. Each piece is then solved again with its separators' values.
+// The result is the whole line's solve (exact up to round-off); where the line is singular (the constant mode between
+// two walls) the last separator is pinned at 0, which is again a symmetric pseudo-solve of the constant null space.
+inline int piece_begin(const int *cut, int r)
+{
+  return cut[r];
+}
+inline int piece_end(const int *cut, int P, int r)
+{
+  return r < P - 1 ? cut[r + 1] - 1 : cut[P];
+}
+
+// The Schur complement on the separators of one line of w T + lambda I, factored: sinv[r] (r < P - 1) the inverse
+// pivots, cpl[r] (r < P - 2) = w^2 (T_p^-1)_{last, first} of the piece p = r + 1 between separators r and r + 1 (the
+// system's off-diagonal is -cpl). scratch holds at least twice the longest piece's cells.
+// The system's diagonal at separator r: w T_rr + lambda - w^2 ((T_r^-1)_{last, last} + (T_{r+1}^-1)_{first, first}).
+inline void separator_factor(LineBC bc, int n, int P, const int *cut, double w, double lambda, double *sinv, double *cpl, double *scratch)
+{
+  const bool pin        = bc == LineBC::WallWall && lambda == 0.0;
+  double     prev_first = 0.0; // (T_{r+1}^-1)_{first, first} of the piece after separator r, filled as r + 1 is done
+  for (int r = P - 1; r >= 0; --r) {
+    const int j0 = piece_begin(cut, r), j1 = piece_end(cut, P, r), m = j1 - j0;
+    double   *inv = scratch, *e = scratch + m;
+    tridiagonal_piece_factor(bc, n, j0, j1, w, lambda, inv);
+    for (int j = 0; j < m; ++j) e[j] = j == 0 ? 1.0 : 0.0;
+    tridiagonal_solve_line(m, w, inv, e); // T_r^-1 e_first: its first and last entries
+    const double first_first = e[0], last_first = e[m - 1];
+    for (int j = 0; j < m; ++j) e[j] = j == m - 1 ? 1.0 : 0.0;
+    tridiagonal_solve_line(m, w, inv, e); // T_r^-1 e_last: its last entry
+    const double last_last = e[m - 1];
+    if (r < P - 1) {
+      const int sep = cut[r + 1] - 1;
+      sinv[r]       = w * line_matrix_entry(bc, n, sep, sep) + lambda - w * w * (last_last + prev_first); // the diagonal, for now
+    }
+    if (r >= 1 && r < P - 1) cpl[r - 1] = w * w * last_first;
+    prev_first = first_first;
+  }
+  for (int r = 0; r < P - 1; ++r) {
+    const double pivot = r == 0 ? sinv[0] : sinv[r] - cpl[r - 1] * cpl[r - 1] * sinv[r - 1];
+    sinv[r]            = (pin && r == P - 2) ? 0.0 : 1.0 / pivot;
+  }
+}
+
+// Solves the separators' system (separator_factor) in place: on entry s[r] = separator r's right-hand side + w (the
+// last value of piece r + the first value of piece r + 1, each solved alone); on return the separators' values.
+inline void separator_solve(int P, const double *sinv, const double *cpl, double *s)
+{
+  const int m = P - 1;
+  s[0] *= sinv[0];
+  for (int r = 1; r < m; ++r) s[r] = (s[r] + cpl[r - 1] * s[r - 1]) * sinv[r];
+  for (int r = m - 2; r >= 0; --r) s[r] += cpl[r] * sinv[r] * s[r + 1];
 }
 
 } // namespace fluidbed::kernels
