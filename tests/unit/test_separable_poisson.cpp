@@ -1,6 +1,7 @@
 // Unit tests of the separable Poisson kernels (kernels/separable_poisson.hpp): the 1D operators match the projection's
 // rows, their eigenvalues belong to the transform modes FFTW leaves in that order, and the Thomas solve matches dense
-// Gaussian elimination, the singular (constant-mode) system included. No MPI, no PETSc, no FFTW.
+// Gaussian elimination, the singular (constant-mode) system included; the partition method (a line cut among ranks,
+// solved from its pieces and separators) matches the whole line's solve. No MPI, no PETSc, no FFTW.
 #include <gtest/gtest.h>
 
 #include "fluidbed/kernels/separable_poisson.hpp"
