@@ -23,7 +23,8 @@ from fluidbed_tools import run as fr
 
 BEDS = {
     "jet2d": ("jetted_bed_2d.opts", 2000, False, []),
-    "coarse750": ("twogrid_750_jet1_u301_wallmu050_coarse.opts", 300, True, ["-domain_top_outlet", 0, "-dem_skin", 0.4]),
+    # the uniform 0.4 d skin of the figures since 2026-12-02 (the scene's own adaptive skin came on 2026-12-07)
+    "coarse750": ("twogrid_750_jet1_u301_wallmu050_coarse.opts", 300, True, ["-domain_top_outlet", 0, "-dem_skin", 0.4, "-dem_skin_adaptive", 0]),
     "fine750": ("twogrid_750_jet1_u301.opts", 150, True, ["-domain_top_outlet", 0]),
 }
 

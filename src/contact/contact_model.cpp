@@ -75,7 +75,9 @@ PetscErrorCode DemParamsSetFromOptions(MPI_Comm comm, const Domain &dom, const P
   PetscCall(OptionsBool(PetscOptionsObject, "-skin_adaptive",
                         "Adaptive skin: each particle's share of its pairs' skin is its speed at the rebuild times twice the last "
                         "interval between rebuilds, between half of -dem_skin_min and half of -dem_skin, and the lists are rebuilt "
-                        "when a particle has moved its own share (off: every share is half of -dem_skin). Results do not depend on it",
+                        "when a particle has moved its own share (off: every share is half of -dem_skin). Results do not depend on it, "
+                        "but for the last bits of a gas-coupled bed's coupling sums on several ranks (the rebuilds decide which rank "
+                        "sums a particle by the ranks' boundary)",
                         &p->skin_adaptive, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, "-skin_min",
                         "Adaptive skin (-dem_skin_adaptive): the skin of two slow particles, at most -dem_skin", "d", Closed(0.01, 2.0),
