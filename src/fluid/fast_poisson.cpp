@@ -111,6 +111,27 @@ fftw_plan PlanAxis(int a, const PetscInt m[3], double *buf, fftw_r2r_kind kind)
   return fftw_plan_guru_r2r(1, &dim, nl, loops, buf, buf, &kind, FFTW_ESTIMATE);
 }
 
+// Sets up the transform along axis a of a block of m[0] x m[1] x m[2] values in buf: the dense modes of a short axis
+// (orthonormal) or FFTW's plans, whose normalisation multiplies *norm.
+PetscErrorCode SetUpAxisTransform(PC pc, FastPoisson *fp, int a, const PetscInt m[3], double *buf, double *norm)
+{
+  PetscFunctionBeginUser;
+  fp->transformed[a] = true;
+  const int na       = (int)fp->n[a];
+  if (na <= kDenseCells) {
+    fp->modes[a].resize((size_t)(na * na));
+    for (int j = 0; j < na; ++j)
+      for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
+    PetscFunctionReturn(0);
+  }
+  fp->fwd[a] = PlanAxis(a, m, buf, ForwardKind(fp->bc[a]));
+  fp->bwd[a] = PlanAxis(a, m, buf, BackwardKind(fp->bc[a]));
+  PetscCheck(fp->fwd[a] && fp->bwd[a], PetscObjectComm((PetscObject)pc), PETSC_ERR_LIB, "FFTW could not plan the transforms along axis %d",
+             a);
+  *norm *= kernels::line_transform_scale(fp->bc[a], na);
+  PetscFunctionReturn(0);
+}
+
 // The partitioned layout: each rank's own block of the grid (x in [cut[rank], cut[rank + 1]), all y and z, x fastest),
 // y and z transformed in place, the lines along x solved by the partition method; per line the piece's Thomas factors
 // and the separators' system, factored once.
@@ -124,26 +145,11 @@ PetscErrorCode FastPoissonBuildPartitioned(PC pc, FastPoisson *fp, const PetscIn
   for (PetscMPIInt r = 0; r < P; ++r) fp->cut[(size_t)r + 1] = fp->cut[(size_t)r] + (int)lx[r];
   PetscInt *ms = fp->ms;
   ms[0] = lx[rank], ms[1] = fp->n[1], ms[2] = fp->n[2];
-  for (int a = 0; a < 3; ++a) fp->mt[a] = ms[a];
   const PetscInt nloc = ms[0] * ms[1] * ms[2], lines = ms[1] * ms[2];
   fp->buf_t = fp->buf_s = fftw_alloc_real((size_t)nloc);
 
   double norm = 1;
-  for (int a = 1; a < fp->dim; ++a) {
-    fp->transformed[a] = true;
-    const int na       = (int)fp->n[a];
-    if (na <= kDenseCells) {
-      fp->modes[a].resize((size_t)(na * na));
-      for (int j = 0; j < na; ++j)
-        for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
-      continue;
-    }
-    fp->fwd[a] = PlanAxis(a, ms, fp->buf_t, ForwardKind(fp->bc[a]));
-    fp->bwd[a] = PlanAxis(a, ms, fp->buf_t, BackwardKind(fp->bc[a]));
-    PetscCheck(fp->fwd[a] && fp->bwd[a], PetscObjectComm((PetscObject)pc), PETSC_ERR_LIB,
-               "FFTW could not plan the transforms along axis %d", a);
-    norm *= kernels::line_transform_scale(fp->bc[a], na);
-  }
+  for (int a = 1; a < fp->dim; ++a) PetscCall(SetUpAxisTransform(pc, fp, a, ms, fp->buf_t, &norm));
   fp->scale = 1.0 / norm;
 
   const int *cut = fp->cut.data(), n0 = (int)fp->n[0];
@@ -190,7 +196,6 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
     for (PetscMPIInt r = 0; fits && r < P - 1; ++r) fits = lx[r] >= 2; // each part a separator and a piece of at least one cell
     if (fits) {
       PetscCall(FastPoissonBuildPartitioned(pc, fp, lx, rank));
-      fp->built = true;
       PetscFunctionReturn(0);
     }
   }
@@ -212,23 +217,9 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
 
   // the transforms: x and z on T, y on S when periodic (the solve axis otherwise)
   double norm = 1;
-  for (int a = 0; a < fp->dim; ++a) {
-    fp->transformed[a] = a != 1 || fp->bc[1] == LineBC::Periodic;
-    if (!fp->transformed[a]) continue;
-    const PetscInt *mb  = a == 1 ? ms : mt;
-    double         *buf = a == 1 ? fp->buf_s : fp->buf_t;
-    const int       na  = (int)fp->n[a];
-    if (na <= kDenseCells) {
-      fp->modes[a].resize((size_t)(na * na));
-      for (int j = 0; j < na; ++j)
-        for (int k = 0; k < na; ++k) fp->modes[a][(size_t)(j * na + k)] = kernels::line_mode(fp->bc[a], na, k, j);
-      continue; // orthonormal: no normalisation
-    }
-    fp->fwd[a] = PlanAxis(a, mb, buf, ForwardKind(fp->bc[a]));
-    fp->bwd[a] = PlanAxis(a, mb, buf, BackwardKind(fp->bc[a]));
-    PetscCheck(fp->fwd[a] && fp->bwd[a], comm, PETSC_ERR_LIB, "FFTW could not plan the transforms along axis %d", a);
-    norm *= kernels::line_transform_scale(fp->bc[a], na);
-  }
+  for (int a = 0; a < fp->dim; ++a)
+    if (a != 1 || fp->bc[1] == LineBC::Periodic)
+      PetscCall(SetUpAxisTransform(pc, fp, a, a == 1 ? ms : mt, a == 1 ? fp->buf_s : fp->buf_t, &norm));
   fp->scale = 1.0 / norm;
 
   // per mode line of S: the sum of the transformed axes' eigenvalues, then the Thomas factors along y (or 1 / eigenvalue)
@@ -249,7 +240,6 @@ PetscErrorCode FastPoissonBuild(PC pc, FastPoisson *fp)
       for (PetscInt j = 0; j < ms[1]; ++j) fp->inv[(size_t)((k * ms[1] + j) * ms[0] + i)] = line[(size_t)j];
     }
 
-  fp->built = true;
   if (P == 1) PetscFunctionReturn(0);
   // fluid -> T: each T cell's place in the fluid's global vector (natural index through the DMDA's AO)
   {
@@ -413,7 +403,10 @@ PetscErrorCode PCSetUp_FastPoisson(PC pc)
   PetscFunctionBeginUser;
   PetscCheck(fp->grid_set, PetscObjectComm((PetscObject)pc), PETSC_ERR_ORDER,
              "-fluid_p_pc_type fastpoisson: the pressure grid was not given (PCFastPoissonSetGrid)");
-  if (!fp->built) PetscCall(FastPoissonBuild(pc, fp));
+  if (!fp->built) {
+    PetscCall(FastPoissonBuild(pc, fp));
+    fp->built = true;
+  }
   PetscCall(MeanCoefficient(pc, fp));
   PetscCall(Contrast(pc, fp));
   fp->jacobi = (PetscBool)(fp->jacobi_mode == 1 || (fp->jacobi_mode == -1 && fp->contrast > fp->jacobi_contrast));

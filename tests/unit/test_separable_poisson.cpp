@@ -218,7 +218,7 @@ void PartitionedSolve(LineBC bc, int n, const std::vector<int> &cut, double w, d
     const int j0 = piece_begin(cut.data(), r), j1 = piece_end(cut.data(), P, r);
     inv[r].resize(j1 - j0);
     tridiagonal_piece_factor(bc, n, j0, j1, w, lambda, inv[r].data());
-    tridiagonal_solve_line(j1 - j0, w, inv[r].data(), x.data() + j0);
+    tridiagonal_solve_lines(j1 - j0, 1, w, 1.0, inv[r].data(), x.data() + j0);
   }
   for (int r = 0; r < P - 1; ++r) s[r] = rhs[cut[r + 1] - 1] + w * (x[piece_end(cut.data(), P, r) - 1] + x[piece_begin(cut.data(), r + 1)]);
   separator_solve(P, sinv.data(), cpl.data(), s.data());
@@ -227,7 +227,7 @@ void PartitionedSolve(LineBC bc, int n, const std::vector<int> &cut, double w, d
     for (int j = j0; j < j1; ++j) x[j] = rhs[j];
     if (r > 0) x[j0] += w * s[r - 1];
     if (r < P - 1) x[j1 - 1] += w * s[r];
-    tridiagonal_solve_line(j1 - j0, w, inv[r].data(), x.data() + j0);
+    tridiagonal_solve_lines(j1 - j0, 1, w, 1.0, inv[r].data(), x.data() + j0);
     if (r < P - 1) x[j1] = s[r];
   }
 }

@@ -148,14 +148,6 @@ inline void tridiagonal_solve_lines(int n, int m, double w, double s, const doub
   }
 }
 
-// Solves one contiguous block of m rows (tridiagonal_piece_factor) in place: (w T + lambda I)_block x = x.
-inline void tridiagonal_solve_line(int m, double w, const double *inv, double *x)
-{
-  x[0] *= inv[0];
-  for (int j = 1; j < m; ++j) x[j] = (x[j] + w * x[j - 1]) * inv[j];
-  for (int j = m - 2; j >= 0; --j) x[j] += w * inv[j] * x[j + 1];
-}
-
 // The partition method: the line solve of an axis whose cells are split among P ranks, without moving the line.
 // Part r holds the cells [cut[r], cut[r + 1]) (cut[0] = 0, cut[P] = n). Every part but the last keeps its last cell,
 // cut[r + 1] - 1, as a separator; the rest of the part, its piece [piece_begin, piece_end), is solved on its own with
@@ -187,10 +179,10 @@ inline void separator_factor(LineBC bc, int n, int P, const int *cut, double w, 
     double   *inv = scratch, *e = scratch + m;
     tridiagonal_piece_factor(bc, n, j0, j1, w, lambda, inv);
     for (int j = 0; j < m; ++j) e[j] = j == 0 ? 1.0 : 0.0;
-    tridiagonal_solve_line(m, w, inv, e); // T_r^-1 e_first: its first and last entries
+    tridiagonal_solve_lines(m, 1, w, 1.0, inv, e); // T_r^-1 e_first: its first and last entries
     const double first_first = e[0], last_first = e[m - 1];
     for (int j = 0; j < m; ++j) e[j] = j == m - 1 ? 1.0 : 0.0;
-    tridiagonal_solve_line(m, w, inv, e); // T_r^-1 e_last: its last entry
+    tridiagonal_solve_lines(m, 1, w, 1.0, inv, e); // T_r^-1 e_last: its last entry
     const double last_last = e[m - 1];
     if (r < P - 1) {
       const int sep = cut[r + 1] - 1;
