@@ -12,13 +12,19 @@ are running means over the samples, so the window between the two copies is (N2 
 solid fraction and the solid flux; the particle velocity is then the flux over the solid fraction (the
 volume-weighted mean, the same as sum v / sum N for equal particles). This leaves a start-up transient out.
 
+--snapshots t0,t1 measures the fountain from the snapshots written in [t0, t1] instead of the running averages: the
+gas's void fraction (in a two-grid run that of the particle cells) over the fluid cells whose centres lie in the jet's
+particle-grid column, averaged over the depth and over the snapshots. With --blocks N the snapshots are also cut into N
+consecutive blocks, each measured alone: the spread of the blocks' heights gives the window's statistical uncertainty
+(the standard error of their mean), and two runs on different grids (grid sensitivity) compare by the same method.
+
 --merge x1,x2 takes two jets (seed Fig. 5.13: the double jets "merge near the distributor plate"): the merge height
 is the lowest point where the solid fraction of the column midway between them, scanned up from the bottom, first
 falls to the mean of the two jet columns' (linear between cell centres): below it the two jets are separate voids
 with denser solid between them, above it one.
 
     scripts/jet_fountain.py output/run [--x 0.0282] [--thresholds 0.1,0.05,0.02] [--below 0.25] [--since early/analysis.h5]
-                            [--merge 0.0137,0.0427] [--json jet.json]"""
+                            [--merge 0.0137,0.0427] [--snapshots 5.0,8.0 --blocks 6] [--json jet.json]"""
 
 import json
 import os
@@ -96,6 +102,49 @@ def jet_column(a, x):
     return i, lo[0] + (i + 0.5) * h[0], y, sf, vy
 
 
+def snapshot_column(run, x0, x1, t0, t1):
+    """Solid fraction (1 - the gas's void fraction, depth mean) of the fluid cells whose centres lie in [x0, x1], per
+    snapshot written in [t0, t1]: (times, heights of the fluid cell centres, profiles (snapshots, ny))."""
+    lo, hi = fp.box(run)
+    times, profiles = [], []
+    for path in fp.snapshots(run):
+        void, time, source = fp.snapshot_void_fraction(path, lo, hi, (1, 1, 1))
+        if not t0 - 1e-5 <= time <= t1 + 1e-5:  # a snapshot lands within a step of its time
+            continue
+        if source != "gas":
+            fp.die("--snapshots: %s holds no gas void fraction" % path)
+        ny, nx = void.shape
+        xc = lo[0] + (np.arange(nx) + 0.5) * (hi[0] - lo[0]) / nx
+        cols = (xc >= x0) & (xc <= x1)
+        if not cols.any():
+            fp.die("--snapshots: no fluid cell centre lies in the column %g-%g m" % (x0, x1))
+        times.append(time)
+        profiles.append(1.0 - void[:, cols].mean(axis=1))
+    if len(times) < 1:
+        fp.die("--snapshots %g,%g: no snapshot of %s was written in that window" % (t0, t1, run))
+    ny = len(profiles[0])
+    y = lo[1] + (np.arange(ny) + 0.5) * (hi[1] - lo[1]) / ny
+    return np.array(times), y, np.array(profiles)
+
+
+def snapshot_fountain(y, profiles, thresholds, blocks, below):
+    """Fountain heights of the mean of the profiles and, with blocks > 1, of each of `blocks` consecutive blocks of
+    them, with the blocks' mean and its standard error."""
+    if below is not None:
+        keep = y < below
+        y, profiles = y[keep], profiles[:, keep]
+    out = {"snapshots": len(profiles),
+           "fountain_height_m": {"%g" % t: fountain_height(y, profiles.mean(axis=0), t) for t in thresholds}}
+    if blocks > 1:
+        if blocks > len(profiles):
+            fp.die("--blocks %d: only %d snapshots in the window" % (blocks, len(profiles)))
+        parts = np.array_split(profiles, blocks)
+        per = {"%g" % t: [fountain_height(y, b.mean(axis=0), t) for b in parts] for t in thresholds}
+        out["blocks"] = {k: {"heights_m": v, "mean_m": float(np.mean(v)),
+                             "standard_error_m": float(np.std(v, ddof=1) / np.sqrt(len(v)))} for k, v in per.items()}
+    return out
+
+
 def main():
     ap = fp.parser(__doc__, single_run=False)
     ap.add_argument("run", help="run directory (fluidbed -output_dir) holding analysis.h5")
@@ -106,6 +155,9 @@ def main():
     ap.add_argument("--since", help="an earlier copy of the run's analysis.h5: report the window between the two")
     ap.add_argument("--merge", help="x1,x2 of two jets in m: report where they merge (the midway column's solid fraction "
                     "falls to the jet columns' mean)")
+    ap.add_argument("--snapshots", help="t0,t1 in s: measure the fountain from the snapshots written in this window")
+    ap.add_argument("--blocks", type=int, default=1, help="with --snapshots: also measure it in this many consecutive blocks "
+                    "of the snapshots (their spread gives the uncertainty)")
     ap.add_argument("--json", help="write the figures to this file")
     args = ap.parse_args()
 
@@ -136,6 +188,16 @@ def main():
         "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
         "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
     }
+    if args.snapshots:
+        try:
+            t0, t1 = (float(v) for v in args.snapshots.split(","))
+        except ValueError:
+            fp.die("--snapshots %s: give a window in s, t0,t1" % args.snapshots)
+        if args.blocks < 1:
+            fp.die("--blocks %d: give at least 1" % args.blocks)
+        times, ys, profiles = snapshot_column(args.run, out["column_x_m"][0], out["column_x_m"][1], t0, t1)
+        out["from_snapshots"] = snapshot_fountain(ys, profiles, thresholds, args.blocks, args.below)
+        out["from_snapshots"]["window_s"] = [float(times.min()), float(times.max())]
     if args.merge:
         try:
             x1, x2 = (float(v) for v in args.merge.split(","))
@@ -163,6 +225,16 @@ def main():
     print("bed height (cross-section mean solid fraction 0.1): %.1f mm" % (out["bed_height_cross_section_0.1_m"] * fp.MM))
     print("largest upward particle velocity in the jet column: %.3f m/s at %.1f mm" %
           (out["jet_max_velocity_y_m_s"], out["jet_max_velocity_y_height_m"] * fp.MM))
+    if args.snapshots:
+        sn = out["from_snapshots"]
+        print("from %d snapshots, %.3f-%.3f s:" % (sn["snapshots"], sn["window_s"][0], sn["window_s"][1]))
+        for k, v in sn["fountain_height_m"].items():
+            line = "  fountain height at solid fraction %s: %.1f mm" % (k, v * fp.MM)
+            if "blocks" in sn:
+                b = sn["blocks"][k]
+                line += "; %d blocks: %.1f +- %.1f mm (%s)" % (len(b["heights_m"]), b["mean_m"] * fp.MM, b["standard_error_m"] * fp.MM,
+                                                            ", ".join("%.1f" % (z * fp.MM) for z in b["heights_m"]))
+            print(line)
     if args.merge:
         m = out["merge"]
         print("jets in columns %d and %d merge at %.1f mm (midway column %d: solid fraction %.3f at the bottom; largest "

@@ -11,7 +11,10 @@ answers, no runs:
 - --below leaves out a layer held against a closed top;
 - --merge: a column between two jets that is packed low down and thins linearly above meets the jets' solid
   fraction where the line does (1e-12), scanning up; one denser than the jets everywhere gives NaN; jets that share
-  a column with the midway one are refused."""
+  a column with the midway one are refused;
+- --snapshots with --blocks: the gas's void fraction of snapshots on a finer fluid grid, in the window only and in the
+  jet's particle column only, gives the fountain of the mean profile and of each block exactly (1e-12), and the blocks'
+  standard error; more blocks than snapshots, or a window without any, are refused."""
 import json
 import math
 import os
@@ -146,3 +149,34 @@ p = jet_fountain("jet_fountain_merge", "--merge", "0.021,0.022")
 t.check(p.returncode != 0 and "--merge" in p.stderr, "--merge with both jets in one column is refused: %s" % p.stderr.strip()[:120])
 p = jet_fountain("jet_fountain_merge", "--merge", "0.01")
 t.check(p.returncode != 0 and "--merge" in p.stderr, "--merge with one x is refused: %s" % p.stderr.strip()[:120])
+
+# --snapshots: the gas's void fraction of snapshots on a fluid grid twice as fine as the particle grid (18 x 80 x 2);
+# in the jet's particle column (x 20-25 mm: fluid columns 8 and 9) each snapshot's solid fraction falls linearly from
+# 0.6 above a_k, a_k = 20, 22, 24, 26 mm at t = 1.0 .. 1.3 s (the last written a step early), and a snapshot at
+# 0.9 s outside the window stands far higher. The fluid columns beside the jet are packed to the top, so a column
+# taken too wide shows. The mean of lines that are not clipped at a height is the line of the mean a: the threshold
+# s is crossed at mean(a) + (0.6 - s) / 5, exactly between cell centres; two blocks give mean(a) of each half.
+os.makedirs("jet_fountain_snap", exist_ok=True)
+write_analysis("jet_fountain_snap/analysis.h5", sf, vel, 1000, 1.0, 2.0)
+fy = (np.arange(80) + 0.5) * 0.002
+for k, (time, a) in enumerate(((0.9, 0.08), (1.0, 0.020), (1.1, 0.022), (1.2, 0.024), (1.3 - 3e-6, 0.026))):
+    solid = np.full((2, 80, 18), 0.6)
+    solid[:, :, 8] = solid[:, :, 9] = np.clip(0.6 - 5.0 * (fy - a), 0.0, 0.6)[None, :]
+    with h5py.File("jet_fountain_snap/snapshot_%05d.h5" % k, "w") as f:
+        f.attrs["time"] = time
+        f["fluid/void_fraction"] = 1.0 - solid
+p = jet_fountain("jet_fountain_snap", "--snapshots", "1.0,1.3", "--blocks", "2")
+sn = json.load(open("jet_fountain_snap/jet.json"))["from_snapshots"]
+t.check(p.returncode == 0 and sn["snapshots"] == 4, "--snapshots 1.0,1.3: the four snapshots in the window (%d)" % sn["snapshots"])
+for thr in ("0.1", "0.02"):
+    exact = 0.023 + (0.6 - float(thr)) / 5.0
+    t.check(abs(sn["fountain_height_m"][thr] - exact) < 1e-12,
+            "--snapshots: fountain at %s %.6f m (exact %.6f m)" % (thr, sn["fountain_height_m"][thr], exact))
+b = sn["blocks"]["0.1"]
+t.check(abs(b["heights_m"][0] - 0.121) < 1e-12 and abs(b["heights_m"][1] - 0.125) < 1e-12 and abs(b["mean_m"] - 0.123) < 1e-12
+        and abs(b["standard_error_m"] - 0.002) < 1e-12, "--blocks 2: %s m, mean %.6f, standard error %.6f (exact 0.121, 0.125, 0.123, 0.002)"
+        % (b["heights_m"], b["mean_m"], b["standard_error_m"]))
+p = jet_fountain("jet_fountain_snap", "--snapshots", "1.0,1.3", "--blocks", "5")
+t.check(p.returncode != 0 and "--blocks" in p.stderr, "--blocks beyond the snapshots is refused: %s" % p.stderr.strip()[:100])
+p = jet_fountain("jet_fountain_snap", "--snapshots", "3,4")
+t.check(p.returncode != 0 and "--snapshots" in p.stderr, "a window without snapshots is refused: %s" % p.stderr.strip()[:100])
