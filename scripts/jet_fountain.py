@@ -188,6 +188,8 @@ def main():
         "jet_max_velocity_y_m_s": float(np.nanmax(vy)),
         "jet_max_velocity_y_height_m": float(y[int(np.nanargmax(vy))]),
     }
+    if args.blocks != 1 and not args.snapshots:
+        fp.die("--blocks %d: give --snapshots t0,t1 as well (the blocks cut the snapshots' window)" % args.blocks)
     if args.snapshots:
         try:
             t0, t1 = (float(v) for v in args.snapshots.split(","))

@@ -14,7 +14,7 @@ answers, no runs:
   a column with the midway one are refused;
 - --snapshots with --blocks: the gas's void fraction of snapshots on a finer fluid grid, in the window only and in the
   jet's particle column only, gives the fountain of the mean profile and of each block exactly (1e-12), and the blocks'
-  standard error; more blocks than snapshots, or a window without any, are refused."""
+  standard error; more blocks than snapshots, a window without any, or blocks without snapshots are refused."""
 import json
 import math
 import os
@@ -180,3 +180,5 @@ p = jet_fountain("jet_fountain_snap", "--snapshots", "1.0,1.3", "--blocks", "5")
 t.check(p.returncode != 0 and "--blocks" in p.stderr, "--blocks beyond the snapshots is refused: %s" % p.stderr.strip()[:100])
 p = jet_fountain("jet_fountain_snap", "--snapshots", "3,4")
 t.check(p.returncode != 0 and "--snapshots" in p.stderr, "a window without snapshots is refused: %s" % p.stderr.strip()[:100])
+p = jet_fountain("jet_fountain_snap", "--blocks", "2")
+t.check(p.returncode != 0 and "--blocks" in p.stderr, "--blocks without --snapshots is refused: %s" % p.stderr.strip()[:100])
