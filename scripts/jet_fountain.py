@@ -30,6 +30,7 @@ import json
 import os
 
 from fluidbed_tools import plot as fp
+from fluidbed_tools.stats import standard_error
 import numpy as np
 
 
@@ -141,7 +142,7 @@ def snapshot_fountain(y, profiles, thresholds, blocks, below):
         parts = np.array_split(profiles, blocks)
         per = {"%g" % t: [fountain_height(y, b.mean(axis=0), t) for b in parts] for t in thresholds}
         out["blocks"] = {k: {"heights_m": v, "mean_m": float(np.mean(v)),
-                             "standard_error_m": float(np.std(v, ddof=1) / np.sqrt(len(v)))} for k, v in per.items()}
+                             "standard_error_m": standard_error(v)} for k, v in per.items()}
     return out
 
 
